@@ -1,0 +1,422 @@
+//! The analyser: pieces → linear programs → Clarabel → bounds, witnesses and a verdict.
+//!
+//! For every piece of the [`Decomposition`] the analyser looks for a proof — an exact
+//! lower bound on its worst-case separation, or an exact proof that it is infeasible —
+//! first without the solver (a single row no point of the box satisfies, or the sum of all
+//! rows), then with Clarabel, whose multipliers are re-checked exactly. The worst case s*
+//! is the least piece optimum; its *witness* is re-solved with every strict row a small
+//! margin inside (the closed optimum may sit on a guard's boundary, where a replay would
+//! fire one step early) and replayed exactly through the semantics.
+//!
+//! Verdicts: `certified` iff every piece is proved and the least bound exceeds the
+//! clearance; `refuted` iff a witness, replayed exactly, collides; else `inconclusive`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::lp::{self, LpOutcome};
+use crate::model::{Params, Problem};
+use crate::num::{Exact, Scalar, exact_float, f64_at_most};
+use crate::program::{Program, ProofKind};
+use crate::schedule::{Decomposition, Ending, Piece};
+use crate::simulate::{self, TraceRow};
+
+/// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
+pub const WITNESS_MARGIN: f64 = 1e-7;
+/// A witness must replay to within this of its piece's optimum (m).
+pub const REPLAY_TOLERANCE: f64 = 1e-6;
+
+/// The three-valued answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// Rigorous lower bound on s* above the clearance.
+    Certified,
+    /// A concrete behaviour collides (replayed exactly).
+    Refuted,
+    /// Neither.
+    Inconclusive,
+}
+
+impl Verdict {
+    /// The word used in output.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Certified => "certified",
+            Verdict::Refuted => "refuted",
+            Verdict::Inconclusive => "inconclusive",
+        }
+    }
+}
+
+/// What was established about one piece.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PieceResult {
+    /// A proof: multipliers and the exact bound they give (for `Infeasible`, > 0).
+    Proved {
+        /// Bound or infeasibility.
+        kind: ProofKind,
+        /// One multiplier per program row.
+        z: Vec<f64>,
+        /// The exact value proved.
+        bound: Exact,
+        /// The solver's optimum and point, when it solved the piece.
+        optimum: Option<(f64, Vec<f64>)>,
+    },
+    /// No proof: the piece is feasible with no objective (a pass-through: the robot never
+    /// brakes), or the solver failed.
+    Unproved {
+        /// Why.
+        reason: String,
+        /// A feasible point, when the solver found one.
+        point: Option<Vec<f64>>,
+    },
+}
+
+/// A piece and its result.
+#[derive(Clone, Debug)]
+pub struct PieceOutcome {
+    /// The piece.
+    pub piece: Piece,
+    /// Its result.
+    pub result: PieceResult,
+}
+
+/// A concrete worst-case behaviour, replayed exactly.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Witness {
+    /// The piece it comes from.
+    pub piece: Piece,
+    /// For a merged piece, the number of whole steps the behaviour is shifted by.
+    pub shift: usize,
+    /// Margin its strict rows were kept inside (m).
+    pub margin: f64,
+    /// The obstacle's speed in each control period (after the last: W).
+    pub obstacle_speeds: Vec<f64>,
+    /// The replay collides.
+    pub collides: bool,
+    /// Gap when the robot came to rest (None: it never stopped before colliding).
+    pub separation: Option<f64>,
+    /// One row at every period start plus the instant the robot came to rest.
+    pub steps: Vec<TraceRow>,
+}
+
+/// The analyser's full answer.
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    /// The problem analysed.
+    pub problem: Problem,
+    /// Its pieces.
+    pub decomposition: Decomposition,
+    /// One outcome per piece, in the decomposition's order.
+    pub outcomes: Vec<PieceOutcome>,
+    /// Exact least bound over all pieces (None: some piece is unproved, so no finite bound).
+    pub lower_bound: Option<Exact>,
+    /// The worst-case minimum separation s*: the optimum of the piece whose witness was
+    /// realised (None with `never_stops`: −∞).
+    pub min_separation: Option<f64>,
+    /// The worst case is a robot that never brakes (s* = −∞).
+    pub never_stops: bool,
+    /// The worst-case behaviour, if one was realised.
+    pub witness: Option<Witness>,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Linear programs handed to Clarabel.
+    pub programs_solved: usize,
+}
+
+/// Analysis failures that are not verdicts.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnalysisError {
+    /// The engines disagree: a certified bound and a colliding witness. A bug, reported
+    /// rather than resolved either way.
+    #[error("internal inconsistency: {0}")]
+    Inconsistent(String),
+}
+
+/// Analyses a (validated) problem.
+pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
+    let dec = Decomposition::new(problem);
+    let mut solved = 0;
+    let mut outcomes = Vec::with_capacity(dec.pieces.len());
+    for piece in &dec.pieces {
+        let program = dec.program(piece);
+        let result = prove(&program, piece, &mut solved);
+        outcomes.push(PieceOutcome {
+            piece: *piece,
+            result,
+        });
+    }
+    let mut lower_bound: Option<Exact> = None;
+    let mut all_proved = true;
+    for o in &outcomes {
+        match &o.result {
+            PieceResult::Proved {
+                kind: ProofKind::Bound,
+                bound,
+                ..
+            } => {
+                if lower_bound.as_ref().is_none_or(|lb| bound < lb) {
+                    lower_bound = Some(bound.clone());
+                }
+            }
+            PieceResult::Proved {
+                kind: ProofKind::Infeasible,
+                ..
+            } => {}
+            PieceResult::Unproved { .. } => all_proved = false,
+        }
+    }
+    let params: Params<Exact> = dec.params.clone();
+    if !all_proved {
+        lower_bound = None;
+    } else if lower_bound.is_none() {
+        // Every piece infeasible: no behaviour moves the robot near the obstacle at all.
+        lower_bound = Some(params.g0.clone());
+    }
+    let certified = lower_bound
+        .as_ref()
+        .is_some_and(|lb| *lb > params.clearance);
+
+    // Candidates for the worst case, most dangerous first.
+    let mut candidates: Vec<(f64, usize)> = outcomes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| match &o.result {
+            PieceResult::Proved {
+                optimum: Some((v, _)),
+                kind: ProofKind::Bound,
+                ..
+            } => Some((*v, i)),
+            PieceResult::Unproved { point: Some(_), .. } if !o.piece.has_objective() => {
+                Some((f64::NEG_INFINITY, i))
+            }
+            _ => None,
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut witness = None;
+    let mut min_separation = None;
+    let mut never_stops = false;
+    for &(value, i) in &candidates {
+        let piece = &outcomes[i].piece;
+        if let Some(w) = extract_witness(&dec, piece, value, &mut solved) {
+            never_stops = !piece.has_objective();
+            min_separation = if never_stops { None } else { Some(value) };
+            witness = Some(w);
+            break;
+        }
+    }
+    let collides = witness.as_ref().is_some_and(|w| w.collides);
+    if certified && collides {
+        return Err(AnalysisError::Inconsistent(
+            "a certified bound above the clearance and a colliding witness".into(),
+        ));
+    }
+    let verdict = if certified {
+        Verdict::Certified
+    } else if collides {
+        Verdict::Refuted
+    } else {
+        Verdict::Inconclusive
+    };
+    Ok(Analysis {
+        problem: problem.clone(),
+        decomposition: dec,
+        outcomes,
+        lower_bound,
+        min_separation,
+        never_stops,
+        witness,
+        verdict,
+        programs_solved: solved,
+    })
+}
+
+/// Finds a proof for one piece: cheap Farkas candidates first, then Clarabel.
+fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
+    let rows = program.rows.len();
+    let mut farkas_candidates = Vec::new();
+    if let Some(i) = program.infeasible_row() {
+        let mut z = vec![0.0; rows];
+        z[i] = 1.0;
+        farkas_candidates.push(z);
+    }
+    farkas_candidates.push(vec![1.0; rows]);
+    for z in farkas_candidates {
+        if let Some(b) = program.bound(&z, false)
+            && b > Exact::ZERO
+        {
+            return PieceResult::Proved {
+                kind: ProofKind::Infeasible,
+                z,
+                bound: b,
+                optimum: None,
+            };
+        }
+    }
+    *solved += 1;
+    match lp::solve(program, 0.0) {
+        LpOutcome::Optimal { x, z, value } => {
+            if !piece.has_objective() {
+                return PieceResult::Unproved {
+                    reason: "feasible: the robot never brakes".into(),
+                    point: Some(x),
+                };
+            }
+            match program.bound(&z, true) {
+                Some(bound) => PieceResult::Proved {
+                    kind: ProofKind::Bound,
+                    z,
+                    bound,
+                    optimum: Some((value, x)),
+                },
+                None => PieceResult::Unproved {
+                    reason: "multipliers prove no finite bound".into(),
+                    point: Some(x),
+                },
+            }
+        }
+        LpOutcome::Infeasible { z } => match program.bound(&z, false) {
+            Some(b) if b > Exact::ZERO => PieceResult::Proved {
+                kind: ProofKind::Infeasible,
+                z,
+                bound: b,
+                optimum: None,
+            },
+            _ => PieceResult::Unproved {
+                reason: "solver's infeasibility certificate does not verify".into(),
+                point: None,
+            },
+        },
+        LpOutcome::Failed { status } => PieceResult::Unproved {
+            reason: format!("solver: {status}"),
+            point: None,
+        },
+    }
+}
+
+/// Re-solves a piece with strict rows kept inside, turns the point into obstacle speeds and
+/// replays them exactly. Returns the witness if the replay realises the piece's optimum
+/// (or, for a pass-through, collides without braking).
+fn extract_witness(
+    dec: &Decomposition,
+    piece: &Piece,
+    value: f64,
+    solved: &mut usize,
+) -> Option<Witness> {
+    let program = dec.program(piece);
+    for margin in [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2] {
+        *solved += 1;
+        let LpOutcome::Optimal { x, .. } = lp::solve(&program, margin) else {
+            continue;
+        };
+        let (shift, speeds) = speeds_from_point(dec, piece, &program, &x);
+        let witness = replay_witness(dec, *piece, shift, margin, speeds);
+        let realised = if piece.has_objective() {
+            witness
+                .separation
+                .is_some_and(|s| s >= value - REPLAY_TOLERANCE && s - value <= REPLAY_TOLERANCE)
+        } else {
+            witness.collides
+        };
+        if realised {
+            return Some(witness);
+        }
+    }
+    None
+}
+
+fn clamp(x: Exact, lo: &Exact, hi: &Exact) -> Exact {
+    if x < *lo {
+        lo.clone()
+    } else if x > *hi {
+        hi.clone()
+    } else {
+        x
+    }
+}
+
+/// The full obstacle speed sequence for a solution point of a piece's program.
+fn speeds_from_point(
+    dec: &Decomposition,
+    piece: &Piece,
+    program: &Program,
+    x: &[f64],
+) -> (usize, Vec<f64>) {
+    let p = &dec.params;
+    let m = dec.anchor(piece);
+    let n = piece.brake - p.L;
+    let var = &program.vars[0];
+    let u = clamp(exact_float(x[0]), &var.lower, &var.upper);
+    let shift = dec.shift_for(piece, &u);
+    let m2 = m + shift;
+    let mut speeds = Vec::with_capacity(n + shift + 32);
+    if m2 > 0 {
+        // Prefix: the constant speed that brings the gap to u at step m2.
+        let s = p.g0.clone() - dec.position(m2) - u;
+        let w = s / (Exact::from(m2) * p.dt.clone());
+        let w = clamp(w, &Exact::ZERO, &p.W);
+        speeds.resize(m2, f64_at_most(&w));
+    }
+    for (j, var) in program.vars.iter().enumerate().skip(1).take(n - m) {
+        let w = clamp(exact_float(x[j]), &var.lower, &var.upper);
+        speeds.push(f64_at_most(&w));
+    }
+    (shift, speeds)
+}
+
+fn replay_witness(
+    dec: &Decomposition,
+    piece: Piece,
+    shift: usize,
+    margin: f64,
+    mut speeds: Vec<f64>,
+) -> Witness {
+    let params = &dec.params;
+    let pf: Params<f64> = params_f64(params);
+    let max_steps = piece.brake + shift + simulate::horizon(&pf);
+    let tail = f64_at_most(&params.W);
+    speeds.resize(max_steps, tail);
+    let run = simulate::replay_exact(params, &speeds, max_steps);
+    speeds.truncate(run.records.len());
+    let steps = simulate::trace(params, &run);
+    Witness {
+        piece,
+        shift,
+        margin,
+        obstacle_speeds: speeds,
+        collides: run.outcome.collided,
+        separation: run.outcome.rest_gap.as_ref().map(|g| g.as_f64()),
+        steps,
+    }
+}
+
+/// The nearest-float version of exact parameters.
+pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
+    Params {
+        v_max: p.v_max.as_f64(),
+        a: p.a.as_f64(),
+        b: p.b.as_f64(),
+        dt: p.dt.as_f64(),
+        L: p.L,
+        clearance: p.clearance.as_f64(),
+        V_a: p.V_a.as_f64(),
+        rho: p.rho.as_f64(),
+        rule: p.rule,
+        buffer: p.buffer.as_f64(),
+        wrong_assumption_brake: p.wrong_assumption_brake,
+        W: p.W.as_f64(),
+        g0: p.g0.as_f64(),
+    }
+}
+
+/// Replays a witness's obstacle speeds exactly (used by `check` and by tests).
+pub fn replay(params: &Params<Exact>, speeds: &[f64]) -> simulate::Run<Exact> {
+    simulate::replay_exact(params, speeds, speeds.len())
+}
+
+/// Whether a piece ends in a pass-through (a robot that never brakes).
+pub fn is_pass_through(piece: &Piece) -> bool {
+    piece.ending == Ending::PassThrough
+}

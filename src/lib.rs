@@ -1,0 +1,42 @@
+//! # safereach
+//!
+//! Proves or refutes that a mobile robot is *passively safe* against an obstacle coming
+//! towards it along its lane, and keeps the proof honest at run time.
+//!
+//! **Passive safety** (Macek et al. 2008): the robot never collides while it is moving.
+//! With gap g(t) = obstacle position − robot position and robot speed v(t),
+//!
+//! > for every obstacle behaviour with speeds in [0, W] and every instant t:
+//! > v(t) > 0 ⇒ g(t) > clearance.
+//!
+//! **The triple.** A problem fixes the assumed bound V_a (what the controller believes
+//! about obstacles), the real bound W (what the environment does) and the reaction radius ρ
+//! (the robot reacts to obstacles it sees at a gap in (0, ρ]). The controller brakes on
+//! *collision danger* (observed gap ≤ d_coll(v)) or, optionally, on a *wrong assumption*
+//! (an obstacle in the area seen faster than V_a). DESIGN.md §1 is the exact semantics;
+//! [`semantics`] implements it once for every engine.
+//!
+//! **Verdicts** are three-valued:
+//! - `certified`: a lower bound on the worst-case minimum separation s*, re-verified in exact
+//!   rational arithmetic without the solver ([`certificate::check`]), exceeds the clearance;
+//! - `refuted`: a concrete obstacle behaviour, replayed exactly through the semantics,
+//!   collides;
+//! - `inconclusive`: neither (the boundary, within numerical tolerance). Never a false
+//!   `certified`.
+//!
+//! The analyser ([`analysis`]) splits all behaviours into finitely many *pieces* by the
+//! robot's discrete schedule ([`schedule`]); each piece is a tiny linear program
+//! ([`program`]) solved by Clarabel ([`lp`]), whose dual multipliers become the certificate.
+
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+pub mod analysis;
+pub mod certificate;
+pub mod lp;
+pub mod model;
+pub mod num;
+pub mod program;
+pub mod schedule;
+pub mod semantics;
+pub mod simulate;

@@ -1,0 +1,475 @@
+//! From the hybrid model to finitely many linear programs: the schedule decomposition.
+//!
+//! # Notation
+//! Step k covers [k·dt, (k+1)·dt]. The obstacle holds speed w_k ∈ [0, W] in step k.
+//! Along the *drive profile* (the robot never braking) the robot is at P_k with speed v_k at
+//! step k's start. The gap is g_k = g0 − P_k − dt·Σ_{j<k} w_j. At step k ≥ L the robot sees
+//! o_k = g_{k−L} and the speed w_{k−L−1} (0 before the first step). Thresholds:
+//! d_k = d_coll(v_k) (∞ for the `area` rule) and θ_k = min(ρ, d_k).
+//!
+//! Two monotonicity facts (see [`crate::semantics`]) carry the whole reduction:
+//! g_k is nonincreasing in k for every behaviour, and v_k, hence d_k and θ_k, is
+//! nondecreasing along the drive profile.
+//!
+//! # Pieces
+//! Every behaviour has a *brake step* T (the guard fires at T's start) or never brakes. A
+//! robot that never brakes keeps moving, so the gap falls below every bound: there is a last
+//! step whose observed gap is positive, and the next one T has o_T ≤ 0 — the obstacle
+//! *passed through* the reaction area between two observations. So behaviours split into
+//! pieces (T, ending) with ending ∈ {danger, wrong assumption, pass-through}.
+//!
+//! **Without the wrong-assumption guard** (off, or W ≤ V_a so no observed speed exceeds V_a),
+//! not firing at k is o_k ≤ 0 ∨ o_k > θ_k. Before a brake step T, o_k ≤ 0 is impossible
+//! (o would stay ≤ 0 and never fire), and o_k − θ_k is nonincreasing, so "no fire before T"
+//! is the single row o_{T−1} > θ_{T−1}. A piece is
+//! - danger: o_{T−1} > θ_{T−1}, 0 < o_T ≤ θ_T;
+//! - pass-through: o_{T−1} > θ_{T−1}, o_T ≤ 0.
+//!
+//! **With it** (on and W > V_a) a piece also fixes the *entry* E ≤ T, the first step whose
+//! observation lies in (0, ρ]: o_{E−1} > ρ, and if E < T, o_E ≤ ρ, o_{T−1} > d_{T−1} (all
+//! in-area steps clear of danger, by the same monotonicity) and w_{k−L−1} ≤ V_a for
+//! k ∈ [E, T) (no wrong assumption seen). The endings add o_T ∈ (0, ρ] with o_T ≤ d_T
+//! (danger) or w_{T−L−1} > V_a (wrong assumption), or o_T ≤ 0 (pass-through).
+//! In-area runs end: once ρ − (P_{T−1−L} − P_{E−L}) ≤ d_{T−1}, no longer E..T is possible.
+//!
+//! Each piece's rows are necessary and sufficient for its schedule (the converse direction
+//! uses the same monotonicity), so the decomposition is exact: the pieces partition the
+//! behaviours up to the boundaries where two pieces meet.
+//!
+//! # Variables
+//! A piece's rows mention gaps from an *anchor* index m on (the first gap any row uses)
+//! and speeds w_m..w_{n−1}, n = T − L. Speeds before m enter only through their sum, so
+//! they become one variable u = g_m with the box [g0 − P_m − W·dt·m, g0 − P_m] (any value
+//! in it is reached by a constant speed ≤ W). Speeds from n on appear in no row; the gap at
+//! rest falls with each, so the worst case holds them at W. A danger or wrong-assumption
+//! piece's objective is the gap when the robot comes to rest after braking at T — the
+//! worst-case separation, since the gap falls while the robot moves. Pass-through pieces
+//! are feasibility questions: any such behaviour collides.
+//!
+//! # Finitely many pieces: the shift
+//! Once the robot cruises at v_max from the anchor on, shifting T (and E) by one step
+//! changes nothing in the rows but u's box, which slides down by v_max·dt while its width
+//! W·dt·m grows. When W·m ≥ v_max consecutive boxes overlap, so their union over all later
+//! shifts is (−∞, g0 − P_m], and intersected with the rows (which force u > 0) it is
+//! (0, g0 − P_m]. One *merged* piece with u ∈ [0, g0 − P_m] therefore stands exactly for
+//! the piece and all its shifts. Before that point pieces are listed one by one; they end
+//! for good at the step T_end where g0 − P_{T−1−L} ≤ 0 (the robot alone has reached the
+//! obstacle's start, so no later observation can be positive).
+//!
+//! A robot that never moves (braking at step 0 at rest) cannot collide: such a piece is
+//! left out.
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::{Params, Problem};
+use crate::num::{Exact, ceil};
+use crate::program::{Program, Row, Var};
+use crate::semantics::{Mode, RobotState, danger_distance, robot_motion};
+
+/// How a piece's schedule ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ending {
+    /// Brakes at T on collision danger.
+    Danger,
+    /// Brakes at T on seeing the obstacle faster than V_a.
+    WrongAssumption,
+    /// Never brakes: the observed gap jumps from outside the area to ≤ 0 at T.
+    PassThrough,
+}
+
+/// One schedule piece: a set of behaviours whose worst case is one linear program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Piece {
+    /// First step whose observation is in the reaction area (only with the
+    /// wrong-assumption guard active).
+    pub entry: Option<usize>,
+    /// The step T at whose start the robot brakes (pass-through: first observation ≤ 0).
+    pub brake: usize,
+    /// Why the schedule ends at T.
+    pub ending: Ending,
+    /// Stands for this piece and all its shifts by whole steps (T+j, E+j for j ≥ 0).
+    pub merged: bool,
+}
+
+impl Piece {
+    /// Whether the piece's objective is a separation (else it is a feasibility question).
+    pub fn has_objective(&self) -> bool {
+        self.ending != Ending::PassThrough
+    }
+}
+
+/// An affine expression over a piece's variables.
+#[derive(Clone, Debug)]
+struct Affine {
+    coef: Vec<Exact>,
+    constant: Exact,
+}
+
+/// The exact drive profile of a problem and its pieces.
+#[derive(Clone, Debug)]
+pub struct Decomposition {
+    /// The problem's exact numbers.
+    pub params: Params<Exact>,
+    /// Robot state at each step's start along the drive profile, up to the cruise onset;
+    /// later states follow from it (see [`Decomposition::drive`]).
+    profile: Vec<RobotState<Exact>>,
+    /// First step at whose start the robot cruises at v_max.
+    pub cruise_from: usize,
+    /// First brake step any piece can have: before it even the fastest obstacle is
+    /// observed outside the reaction area.
+    pub first_brake: usize,
+    /// No piece brakes at or after this step: the robot alone has reached the obstacle's
+    /// start by then. (Merged pieces stand for every later shift below it.)
+    pub last_brake: usize,
+    /// All pieces, in a fixed order (the certificate lists proofs in this order).
+    pub pieces: Vec<Piece>,
+}
+
+impl Decomposition {
+    /// Builds the drive profile and lists the pieces of `problem` (which must be valid).
+    pub fn new(problem: &Problem) -> Self {
+        Self::from_params(problem.params())
+    }
+
+    /// As [`Decomposition::new`], from exact parameters.
+    pub fn from_params(params: Params<Exact>) -> Self {
+        let mut profile = vec![RobotState {
+            position: Exact::ZERO,
+            speed: Exact::ZERO,
+            mode: Mode::Accelerate,
+        }];
+        while profile.last().expect("nonempty").speed < params.v_max {
+            let motion = robot_motion(&params, profile.last().expect("nonempty"));
+            profile.push(motion.end);
+        }
+        let mut d = Decomposition {
+            cruise_from: profile.len() - 1,
+            profile,
+            params,
+            first_brake: 0,
+            last_brake: 0,
+            pieces: Vec::new(),
+        };
+        let p = d.params.clone();
+        let l = p.L;
+        let per_step = p.v_max.clone() * p.dt.clone();
+        // n_end: first gap index the robot alone reaches the obstacle's start (g0 − P ≤ 0).
+        let n_end = d.first_index(
+            |k, dec| dec.position(k) >= p.g0,
+            (p.g0.clone() - d.position(d.cruise_from)) / per_step.clone(),
+        );
+        // n_start: first gap index the fastest obstacle can be observed within ρ.
+        let closing = (p.v_max.clone() + p.W.clone()) * p.dt.clone();
+        let c = d.cruise_from;
+        let far = p.g0.clone()
+            - d.position(c)
+            - p.W.clone() * p.dt.clone() * Exact::from(c)
+            - p.rho.clone();
+        let n_start = d.first_index(
+            |k, dec| {
+                p.g0.clone() - dec.position(k) - p.W.clone() * p.dt.clone() * Exact::from(k)
+                    <= p.rho
+            },
+            far / closing,
+        );
+        d.first_brake = n_start + l;
+        d.last_brake = n_end + 1 + l;
+        // Anchor index from which shifted pieces merge: cruising, and boxes overlap.
+        let merge_at = if p.W > Exact::ZERO {
+            let need =
+                usize::try_from(ceil(&(p.v_max.clone() / p.W.clone()))).unwrap_or(usize::MAX);
+            let t = d.cruise_from.max(need).max(1).saturating_add(1 + l);
+            Some(t.max(d.first_brake)).filter(|&t| t < d.last_brake)
+        } else {
+            None
+        };
+        let last = merge_at.unwrap_or(d.last_brake);
+        let wa = p.wrong_assumption_active();
+        if !wa {
+            for t in d.first_brake.max(l)..last {
+                d.push_endings(None, t, false, &[Ending::Danger, Ending::PassThrough]);
+            }
+            if let Some(t) = merge_at {
+                d.push_endings(None, t, true, &[Ending::Danger, Ending::PassThrough]);
+            }
+        } else {
+            let all = [Ending::Danger, Ending::WrongAssumption, Ending::PassThrough];
+            for e in d.first_brake.max(l)..last {
+                for t in e..d.last_brake {
+                    if t > e && !d.in_area_possible(e, t) {
+                        break;
+                    }
+                    d.push_endings(Some(e), t, false, &all);
+                }
+            }
+            if let Some(e) = merge_at {
+                let mut t = e;
+                while t == e || d.in_area_possible(e, t) {
+                    d.push_endings(Some(e), t, true, &all);
+                    t += 1;
+                }
+            }
+        }
+        d
+    }
+
+    /// The first index k ≥ 0 where `reached(k)` holds, for a predicate that is monotone in k
+    /// and, past the cruise onset, holds from `cruise_from + ceil(steps)` on (`steps` is the
+    /// exact number of cruise steps still needed, as computed from the cruise state).
+    fn first_index(&self, reached: impl Fn(usize, &Self) -> bool, steps: Exact) -> usize {
+        for k in 0..=self.cruise_from {
+            if reached(k, self) {
+                return k;
+            }
+        }
+        let k = self.cruise_from + usize::try_from(ceil(&steps)).unwrap_or(usize::MAX).max(1);
+        debug_assert!(reached(k, self) && !reached(k - 1, self));
+        k
+    }
+
+    /// Position along the drive profile at step k's start.
+    pub fn position(&self, k: usize) -> Exact {
+        self.drive(k).position
+    }
+
+    /// Whether the robot can spend steps E..T−1 in the area without danger: the robot alone
+    /// closes ρ − (P_{T−1−L} − P_{E−L}) and d_{T−1} must stay below the observed gap.
+    fn in_area_possible(&self, e: usize, t: usize) -> bool {
+        let l = self.params.L;
+        let closed = self.position(t - 1 - l) - self.position(e - l);
+        match danger_distance(&self.params, &self.drive(t - 1).speed) {
+            None => false,
+            Some(d) => self.params.rho.clone() - closed > d,
+        }
+    }
+
+    fn push_endings(&mut self, entry: Option<usize>, t: usize, merged: bool, endings: &[Ending]) {
+        for &ending in endings {
+            if ending != Ending::PassThrough && self.drive(t).speed == Exact::ZERO {
+                continue; // the robot never moves
+            }
+            if ending == Ending::WrongAssumption && t < self.params.L + 1 {
+                continue; // nothing observed moving yet: observed speed is 0 ≤ V_a
+            }
+            self.pieces.push(Piece {
+                entry,
+                brake: t,
+                ending,
+                merged,
+            });
+        }
+    }
+
+    /// The drive-profile state at step k's start. Past the cruise onset the robot drives
+    /// at v_max, so the state is the cruise state moved k − cruise_from steps (what
+    /// iterating [`robot_motion`] in Drive gives; a test holds the two equal).
+    pub fn drive(&self, k: usize) -> RobotState<Exact> {
+        match self.profile.get(k) {
+            Some(s) => s.clone(),
+            None => {
+                let c = &self.profile[self.cruise_from];
+                let p = &self.params;
+                RobotState {
+                    position: c.position.clone()
+                        + Exact::from(k - self.cruise_from) * p.v_max.clone() * p.dt.clone(),
+                    speed: p.v_max.clone(),
+                    mode: Mode::Drive,
+                }
+            }
+        }
+    }
+
+    /// The anchor index m of a piece: the first gap index any of its rows mentions.
+    pub fn anchor(&self, piece: &Piece) -> usize {
+        let l = self.params.L;
+        let first = piece.entry.unwrap_or(piece.brake);
+        if first > l { first - 1 - l } else { 0 }
+    }
+
+    /// Time and position at which the robot comes to rest after braking at step T's start.
+    pub fn rest(&self, t: usize) -> (Exact, Exact) {
+        let p = &self.params;
+        let mut state = self.drive(t);
+        state.mode = Mode::Brake;
+        let mut time = Exact::from(t) * p.dt.clone();
+        loop {
+            let motion = robot_motion(p, &state);
+            time += motion.moving_for.clone();
+            let stopped = motion.end.mode == Mode::Stop;
+            state = motion.end;
+            if stopped {
+                return (time, state.position);
+            }
+        }
+    }
+
+    /// The linear program of a piece (see the module docs for its rows).
+    pub fn program(&self, piece: &Piece) -> Program {
+        let p = &self.params;
+        let l = p.L;
+        let t = piece.brake;
+        let n = t - l;
+        let m = self.anchor(piece);
+        let pos = |k: usize| self.position(k);
+        let zero = Exact::ZERO;
+        // Variables: u = g_m, then w_m .. w_{n-1}.
+        let hi = p.g0.clone() - pos(m);
+        let lo = if piece.merged {
+            zero.clone()
+        } else {
+            hi.clone() - p.W.clone() * p.dt.clone() * Exact::from(m)
+        };
+        let mut vars = vec![Var {
+            name: format!("g[{m}]"),
+            lower: lo,
+            upper: hi,
+        }];
+        for j in m..n {
+            vars.push(Var {
+                name: format!("w[{j}]"),
+                lower: zero.clone(),
+                upper: p.W.clone(),
+            });
+        }
+        let nv = vars.len();
+        let w_var = |j: usize| 1 + j - m;
+        let gap = |i: usize| -> Affine {
+            let mut coef = vec![zero.clone(); nv];
+            coef[0] = Exact::ONE;
+            for j in m..i {
+                coef[w_var(j)] = -p.dt.clone();
+            }
+            Affine {
+                coef,
+                constant: pos(m) - pos(i),
+            }
+        };
+        let mut rows = Vec::new();
+        let at_most = |rows: &mut Vec<Row>, label: String, e: &Affine, bound: Exact| {
+            rows.push(Row {
+                label,
+                a: e.coef.clone(),
+                b: bound - e.constant.clone(),
+                strict: false,
+            });
+        };
+        let above = |rows: &mut Vec<Row>, label: String, e: &Affine, bound: Exact| {
+            rows.push(Row {
+                label,
+                a: e.coef.iter().map(|c| -c.clone()).collect(),
+                b: e.constant.clone() - bound,
+                strict: true,
+            });
+        };
+        let d = |k: usize| danger_distance(p, &self.drive(k).speed);
+        match piece.entry {
+            None => {
+                if t > l {
+                    let theta = min_opt(&p.rho, d(t - 1));
+                    above(
+                        &mut rows,
+                        format!("o[{}] > min(rho, d_coll)", t - 1),
+                        &gap(t - 1 - l),
+                        theta,
+                    );
+                }
+            }
+            Some(e) => {
+                if e > l {
+                    above(
+                        &mut rows,
+                        format!("o[{}] > rho", e - 1),
+                        &gap(e - 1 - l),
+                        p.rho.clone(),
+                    );
+                }
+                if e < t {
+                    at_most(
+                        &mut rows,
+                        format!("o[{e}] <= rho"),
+                        &gap(e - l),
+                        p.rho.clone(),
+                    );
+                    let dk =
+                        d(t - 1).expect("in-area pieces exist only with a finite danger distance");
+                    above(
+                        &mut rows,
+                        format!("o[{}] > d_coll", t - 1),
+                        &gap(t - 1 - l),
+                        dk,
+                    );
+                    for k in e..t {
+                        if k > l && k - l - 1 >= m {
+                            vars[w_var(k - l - 1)].upper = p.V_a.clone();
+                        }
+                    }
+                }
+            }
+        }
+        let g_n = gap(n);
+        match piece.ending {
+            Ending::Danger | Ending::WrongAssumption => {
+                above(&mut rows, format!("o[{t}] > 0"), &g_n, zero.clone());
+                if piece.ending == Ending::Danger {
+                    let theta = min_opt(&p.rho, d(t));
+                    at_most(
+                        &mut rows,
+                        format!("o[{t}] <= min(rho, d_coll)"),
+                        &g_n,
+                        theta,
+                    );
+                } else {
+                    at_most(&mut rows, format!("o[{t}] <= rho"), &g_n, p.rho.clone());
+                    let mut coef = vec![zero.clone(); nv];
+                    coef[w_var(n - 1)] = Exact::ONE;
+                    let e = Affine {
+                        coef,
+                        constant: zero.clone(),
+                    };
+                    above(&mut rows, format!("w[{}] > V_a", n - 1), &e, p.V_a.clone());
+                }
+            }
+            Ending::PassThrough => {
+                at_most(&mut rows, format!("o[{t}] <= 0"), &g_n, zero.clone());
+            }
+        }
+        let (objective, constant) = if piece.has_objective() {
+            // Gap at rest = g_n − (P_rest − P_n) − W·(t_rest − n·dt).
+            let (t_rest, p_rest) = self.rest(t);
+            let tail = t_rest - Exact::from(n) * p.dt.clone();
+            (
+                Some(g_n.coef.clone()),
+                g_n.constant.clone() - (p_rest - pos(n)) - p.W.clone() * tail,
+            )
+        } else {
+            (None, zero)
+        };
+        Program {
+            vars,
+            rows,
+            objective,
+            constant,
+        }
+    }
+
+    /// Where a merged piece's optimum u* = g_m lies: the shift j ≥ 0 whose box contains it
+    /// (boxes of consecutive shifts overlap, see the module docs).
+    pub fn shift_for(&self, piece: &Piece, u: &Exact) -> usize {
+        if !piece.merged {
+            return 0;
+        }
+        let p = &self.params;
+        let hi = p.g0.clone() - self.position(self.anchor(piece));
+        let step = p.v_max.clone() * p.dt.clone();
+        let j = ((hi - u.clone()) / step).floor();
+        usize::try_from(j).unwrap_or(0)
+    }
+}
+
+fn min_opt(rho: &Exact, d: Option<Exact>) -> Exact {
+    match d {
+        Some(d) if d < *rho => d,
+        _ => rho.clone(),
+    }
+}

@@ -1,0 +1,392 @@
+//! The model's semantics (DESIGN.md §1): the one step function every engine runs.
+//!
+//! A [`World`] holds the robot, the obstacle's gap and the observation history; its
+//! [`World::step`] advances one control period given the obstacle's speed for that period.
+//! The simulator, witness replay, the certificate checker and the explorer call it; the
+//! analyser builds its robot trajectories from [`robot_motion`] and its guards from
+//! [`danger_distance`], the same functions `step` uses.
+//!
+//! Facts the analyser relies on, each a property of this code and pinned by tests:
+//! - the gap never increases (robot speed ≥ 0 forward, obstacle speed ≥ 0 towards it);
+//! - while the robot accelerates or drives its speed never decreases, and `danger_distance`
+//!   is nondecreasing in the speed, so guard thresholds only grow until the robot brakes;
+//! - braking latches: once in Brake the robot slows at b until it rests (Stop), for good.
+
+use std::collections::VecDeque;
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::{DangerRule, Params};
+use crate::num::Scalar;
+
+/// The robot's automaton location (the seed's robot template).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Before t = 0.
+    Idle,
+    /// Speeding up at a until v_max.
+    Accelerate,
+    /// Cruising at v_max.
+    Drive,
+    /// Slowing at b until at rest; latched.
+    Brake,
+    /// At rest after braking; final.
+    Stop,
+}
+
+impl Mode {
+    /// Name as written in traces.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Mode::Idle => "idle",
+            Mode::Accelerate => "accelerate",
+            Mode::Drive => "drive",
+            Mode::Brake => "brake",
+            Mode::Stop => "stop",
+        }
+    }
+}
+
+/// The robot's state at an instant.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RobotState<N> {
+    /// Position along the lane (m).
+    pub position: N,
+    /// Speed (m/s).
+    pub speed: N,
+    /// Automaton location.
+    pub mode: Mode,
+}
+
+/// The robot's motion over one control period in a given mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Motion<N> {
+    /// State at the end of the period.
+    pub end: RobotState<N>,
+    /// How long into the period the robot was moving: the period itself, the instant it
+    /// came to rest, or zero if it stood still throughout.
+    pub moving_for: N,
+}
+
+impl<N: Scalar> Motion<N> {
+    /// Whether the robot came to rest inside this period (it was moving and now is not).
+    pub fn came_to_rest(&self) -> bool {
+        self.moving_for > N::zero() && self.end.speed == N::zero()
+    }
+}
+
+/// The robot's exact motion over one control period starting in `state`, with the speed
+/// clamped at v_max and at 0 inside the period (a robot that stops mid-period has moved
+/// v²/(2b), not v·dt). The mode in `state` is the one chosen at the period's start.
+pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N> {
+    let dt = p.dt.clone();
+    let half = N::int(1) / N::int(2);
+    let x = state.position.clone();
+    let v = state.speed.clone();
+    match state.mode {
+        Mode::Accelerate | Mode::Drive if v >= p.v_max => Motion {
+            end: RobotState {
+                position: x + p.v_max.clone() * dt.clone(),
+                speed: p.v_max.clone(),
+                mode: Mode::Drive,
+            },
+            moving_for: dt,
+        },
+        Mode::Accelerate => {
+            let reach = (p.v_max.clone() - v.clone()) / p.a.clone();
+            if reach <= dt {
+                // Reaches v_max inside the period, then cruises.
+                let position = x
+                    + v.clone() * reach.clone()
+                    + half * p.a.clone() * reach.clone() * reach.clone()
+                    + p.v_max.clone() * (dt.clone() - reach);
+                Motion {
+                    end: RobotState {
+                        position,
+                        speed: p.v_max.clone(),
+                        mode: Mode::Drive,
+                    },
+                    moving_for: dt,
+                }
+            } else {
+                let position =
+                    x + v.clone() * dt.clone() + half * p.a.clone() * dt.clone() * dt.clone();
+                Motion {
+                    end: RobotState {
+                        position,
+                        speed: v + p.a.clone() * dt.clone(),
+                        mode: Mode::Accelerate,
+                    },
+                    moving_for: dt,
+                }
+            }
+        }
+        Mode::Drive => Motion {
+            end: RobotState {
+                position: x + v.clone() * dt.clone(),
+                speed: v,
+                mode: Mode::Drive,
+            },
+            moving_for: dt,
+        },
+        Mode::Brake => {
+            if v <= N::zero() {
+                return Motion {
+                    end: RobotState {
+                        position: x,
+                        speed: N::zero(),
+                        mode: Mode::Stop,
+                    },
+                    moving_for: N::zero(),
+                };
+            }
+            let stop = v.clone() / p.b.clone();
+            if stop <= dt {
+                let position = x + half * v.clone() * stop.clone();
+                Motion {
+                    end: RobotState {
+                        position,
+                        speed: N::zero(),
+                        mode: Mode::Stop,
+                    },
+                    moving_for: stop,
+                }
+            } else {
+                let position =
+                    x + v.clone() * dt.clone() - half * p.b.clone() * dt.clone() * dt.clone();
+                Motion {
+                    end: RobotState {
+                        position,
+                        speed: v - p.b.clone() * dt.clone(),
+                        mode: Mode::Brake,
+                    },
+                    moving_for: dt,
+                }
+            }
+        }
+        Mode::Idle | Mode::Stop => Motion {
+            end: state.clone(),
+            moving_for: N::zero(),
+        },
+    }
+}
+
+/// The collision-danger distance d_coll(v) of the controller's rule; `None` is infinite
+/// (the `area` rule brakes on entering the reaction area).
+pub fn danger_distance<N: Scalar>(p: &Params<N>, v: &N) -> Option<N> {
+    let t_b = v.clone() / p.b.clone();
+    match p.rule {
+        DangerRule::Paper => Some(v.clone() * t_b.clone() + p.V_a.clone() * t_b + p.buffer.clone()),
+        DangerRule::Kinematic => Some(
+            v.clone() * v.clone() / (N::int(2) * p.b.clone())
+                + p.V_a.clone() * t_b
+                + p.buffer.clone(),
+        ),
+        DangerRule::Area => None,
+    }
+}
+
+/// What the robot sees at the start of a step: the gap L periods ago and the obstacle's
+/// speed over the period that ended then.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Observation<N> {
+    /// Observed gap (m).
+    pub gap: N,
+    /// Observed obstacle speed (m/s).
+    pub speed: N,
+}
+
+/// Why the controller commanded Brake.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BrakeReason {
+    /// Observed gap within the danger distance.
+    CollisionDanger,
+    /// Obstacle in the area seen faster than V_a.
+    WrongAssumption,
+}
+
+/// The controller's guard: whether, with its own speed `v` and observation `obs`, the robot
+/// brakes (DESIGN.md §1, "Controller guards").
+pub fn guard<N: Scalar>(p: &Params<N>, v: &N, obs: &Observation<N>) -> Option<BrakeReason> {
+    let in_area = obs.gap > N::zero() && obs.gap <= p.rho;
+    if !in_area {
+        return None;
+    }
+    let danger = match danger_distance(p, v) {
+        None => true,
+        Some(d) => obs.gap <= d,
+    };
+    if danger {
+        Some(BrakeReason::CollisionDanger)
+    } else if p.wrong_assumption_brake && obs.speed > p.V_a {
+        Some(BrakeReason::WrongAssumption)
+    } else {
+        None
+    }
+}
+
+/// Everything that happened in one control period.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepRecord<N> {
+    /// Step index k; the period is [k·dt, (k+1)·dt].
+    pub k: usize,
+    /// The robot at the period's start, with the mode the controller chose for it.
+    pub robot: RobotState<N>,
+    /// Gap at the period's start.
+    pub gap: N,
+    /// The obstacle's speed over the period.
+    pub obstacle_speed: N,
+    /// What the robot saw at the period's start, if anything yet.
+    pub observation: Option<Observation<N>>,
+    /// Set when the controller commanded Brake at this period's start.
+    pub brake: Option<BrakeReason>,
+    /// The robot's motion over the period.
+    pub motion: Motion<N>,
+    /// Gap at the period's end.
+    pub end_gap: N,
+    /// Gap at the instant the robot came to rest, if it did in this period.
+    pub rest_gap: Option<N>,
+    /// The robot was moving with gap ≤ clearance at some instant of this period.
+    pub collision: bool,
+}
+
+/// The robot and one obstacle under the model's semantics.
+#[derive(Clone, Debug)]
+pub struct World<N> {
+    params: Params<N>,
+    k: usize,
+    robot: RobotState<N>,
+    gap: N,
+    /// Gaps at the starts of the last L+1 periods, newest last.
+    gaps: VecDeque<N>,
+    /// Obstacle speeds over the last L+1 periods, newest last.
+    speeds: VecDeque<N>,
+}
+
+impl<N: Scalar> World<N> {
+    /// The world at t = 0: robot at rest at position 0, about to accelerate.
+    pub fn new(params: Params<N>) -> Self {
+        let gap = params.g0.clone();
+        World {
+            k: 0,
+            robot: RobotState {
+                position: N::zero(),
+                speed: N::zero(),
+                mode: Mode::Accelerate,
+            },
+            gap,
+            gaps: VecDeque::with_capacity(params.L + 2),
+            speeds: VecDeque::with_capacity(params.L + 2),
+            params,
+        }
+    }
+
+    /// The problem's parameters.
+    pub fn params(&self) -> &Params<N> {
+        &self.params
+    }
+
+    /// Index of the next period.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+
+    /// The robot now.
+    pub fn robot(&self) -> &RobotState<N> {
+        &self.robot
+    }
+
+    /// The gap now.
+    pub fn gap(&self) -> &N {
+        &self.gap
+    }
+
+    /// Whether the robot has come to rest for good.
+    pub fn stopped(&self) -> bool {
+        self.robot.mode == Mode::Stop
+    }
+
+    /// What the robot sees at the start of period k: the gap at (k−L)·dt and the obstacle's
+    /// speed over period k−L−1 (0 before the first period); nothing before L·dt.
+    pub fn observation(&self) -> Option<Observation<N>> {
+        let l = self.params.L;
+        if self.k < l {
+            return None;
+        }
+        // gaps holds g_{k-L..=k} once k ≥ L (with g_k pushed in step); here g_k is self.gap.
+        let gap = if l == 0 {
+            self.gap.clone()
+        } else {
+            self.gaps[self.gaps.len() - l].clone()
+        };
+        let speed = if self.k < l + 1 {
+            N::zero()
+        } else {
+            self.speeds[self.speeds.len() - l - 1].clone()
+        };
+        Some(Observation { gap, speed })
+    }
+
+    /// Advance one control period with the obstacle moving at `w` (the caller keeps
+    /// 0 ≤ w ≤ W; the explorer and replay check that).
+    pub fn step(&mut self, w: N) -> StepRecord<N> {
+        let p = &self.params;
+        let observation = self.observation();
+        let mut brake = None;
+        if matches!(self.robot.mode, Mode::Accelerate | Mode::Drive) {
+            if let Some(obs) = &observation {
+                brake = guard(p, &self.robot.speed, obs);
+            }
+            if brake.is_some() {
+                self.robot.mode = Mode::Brake;
+            }
+        }
+        if self.robot.mode == Mode::Brake && self.robot.speed <= N::zero() {
+            self.robot.mode = Mode::Stop;
+        }
+        let start = self.robot.clone();
+        let motion = robot_motion(p, &start);
+        let gap = self.gap.clone();
+        let travelled = motion.end.position.clone() - start.position.clone();
+        let end_gap = gap.clone() - w.clone() * p.dt.clone() - travelled.clone();
+        let mut rest_gap = None;
+        let collision = if motion.came_to_rest() {
+            let g = gap.clone() - w.clone() * motion.moving_for.clone() - travelled;
+            let hit = g < p.clearance;
+            rest_gap = Some(g);
+            hit
+        } else if motion.moving_for > N::zero() {
+            // Still moving at the period's end; the gap is lowest there.
+            end_gap <= p.clearance
+        } else {
+            false
+        };
+        let record = StepRecord {
+            k: self.k,
+            robot: start,
+            gap: gap.clone(),
+            obstacle_speed: w.clone(),
+            observation,
+            brake,
+            motion: motion.clone(),
+            end_gap: end_gap.clone(),
+            rest_gap,
+            collision,
+        };
+        // History: after this step, gaps holds g_{..=k+1}'s predecessors up to g_k.
+        self.gaps.push_back(gap);
+        self.speeds.push_back(w);
+        while self.gaps.len() > p.L + 1 {
+            self.gaps.pop_front();
+        }
+        while self.speeds.len() > p.L + 1 {
+            self.speeds.pop_front();
+        }
+        self.robot = motion.end;
+        self.gap = end_gap;
+        self.k += 1;
+        record
+    }
+}

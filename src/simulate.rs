@@ -1,0 +1,209 @@
+//! Running the semantics forward: witness replay (exact or in floats) and Monte Carlo.
+//!
+//! Both go through [`World::step`], the one step function. Replay in [`Exact`] numbers is
+//! what makes a refutation a theorem: the witness's obstacle speeds are floats, read as the
+//! exact rationals they are, and the collision is decided without rounding.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::model::Params;
+use crate::num::{Exact, Scalar, exact_float};
+use crate::semantics::{BrakeReason, Mode, StepRecord, World};
+
+/// One row of a trace: the state at a control-period start, or at the instant the robot
+/// came to rest.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TraceRow {
+    /// Time (s).
+    pub t: f64,
+    /// Robot position along its lane (m).
+    pub robot_position: f64,
+    /// Robot speed (m/s).
+    pub robot_speed: f64,
+    /// Robot mode from this instant on.
+    pub robot_mode: Mode,
+    /// Obstacle position along the robot's lane (m).
+    pub obstacle_position: f64,
+    /// Obstacle speed held from this instant to the next row (m/s).
+    pub obstacle_speed: f64,
+    /// Gap = obstacle position − robot position (m).
+    pub gap: f64,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutcome<N> {
+    /// The robot was moving with gap ≤ clearance at some instant.
+    pub collided: bool,
+    /// Gap when the robot came to rest (None: it never did within the run).
+    pub rest_gap: Option<N>,
+    /// Step at whose start the robot braked, and why.
+    pub brake: Option<(usize, BrakeReason)>,
+    /// Lowest gap seen while the robot moved.
+    pub min_moving_gap: Option<N>,
+}
+
+/// A run's records and outcome.
+#[derive(Clone, Debug)]
+pub struct Run<N> {
+    /// One record per simulated period.
+    pub records: Vec<StepRecord<N>>,
+    /// How it ended.
+    pub outcome: RunOutcome<N>,
+}
+
+/// Runs the world with `speed(k)` as the obstacle's speed in period k until the robot rests
+/// or `max_steps` periods pass; with `stop_at_collision`, also at the first collision.
+/// (Past a collision the semantics lets the obstacle move through the robot, so a replay
+/// can go on to the instant the robot rests.)
+pub fn run<N: Scalar>(
+    params: Params<N>,
+    mut speed: impl FnMut(usize) -> N,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<N> {
+    let mut world = World::new(params);
+    let mut records = Vec::new();
+    let mut outcome = RunOutcome {
+        collided: false,
+        rest_gap: None,
+        brake: None,
+        min_moving_gap: None,
+    };
+    while world.k() < max_steps && !world.stopped() {
+        let rec = world.step(speed(world.k()));
+        if let Some(reason) = rec.brake {
+            outcome.brake = Some((rec.k, reason));
+        }
+        if rec.motion.moving_for > N::zero() {
+            let low = rec.rest_gap.clone().unwrap_or_else(|| rec.end_gap.clone());
+            outcome.min_moving_gap = Some(match outcome.min_moving_gap.take() {
+                Some(m) => N::min_of(m, low),
+                None => low,
+            });
+        }
+        if rec.rest_gap.is_some() {
+            outcome.rest_gap = rec.rest_gap.clone();
+        }
+        let hit = rec.collision;
+        records.push(rec);
+        if hit {
+            outcome.collided = true;
+            if stop_at_collision || world.robot().mode != crate::semantics::Mode::Brake {
+                // A robot that has not braked never will: nothing more to see.
+                break;
+            }
+        }
+    }
+    Run { records, outcome }
+}
+
+/// Replays obstacle speeds exactly (`speeds[k]` in period k; W after the last one).
+pub fn replay_exact(params: &Params<Exact>, speeds: &[f64], max_steps: usize) -> Run<Exact> {
+    let tail = params.W.clone();
+    run(
+        params.clone(),
+        |k| {
+            speeds
+                .get(k)
+                .map(|&w| exact_float(w))
+                .unwrap_or_else(|| tail.clone())
+        },
+        max_steps,
+        false,
+    )
+}
+
+/// The trace of a run: a row at every period start, and one at the instant the robot came
+/// to rest (or, after a collision, at the end of the colliding period).
+pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
+    let mut rows = Vec::new();
+    for rec in &run.records {
+        let t = N::int(rec.k as i64) * params.dt.clone();
+        rows.push(TraceRow {
+            t: t.as_f64(),
+            robot_position: rec.robot.position.as_f64(),
+            robot_speed: rec.robot.speed.as_f64(),
+            robot_mode: rec.robot.mode,
+            obstacle_position: (rec.robot.position.clone() + rec.gap.clone()).as_f64(),
+            obstacle_speed: rec.obstacle_speed.as_f64(),
+            gap: rec.gap.as_f64(),
+        });
+        let end = &rec.motion.end;
+        if let Some(g) = &rec.rest_gap {
+            rows.push(TraceRow {
+                t: (t.clone() + rec.motion.moving_for.clone()).as_f64(),
+                robot_position: end.position.as_f64(),
+                robot_speed: 0.0,
+                robot_mode: Mode::Stop,
+                obstacle_position: (end.position.clone() + g.clone()).as_f64(),
+                obstacle_speed: rec.obstacle_speed.as_f64(),
+                gap: g.as_f64(),
+            });
+        } else if rec.collision && rec.robot.mode != Mode::Brake {
+            rows.push(TraceRow {
+                t: (t + params.dt.clone()).as_f64(),
+                robot_position: end.position.as_f64(),
+                robot_speed: end.speed.as_f64(),
+                robot_mode: end.mode,
+                obstacle_position: (end.position.clone() + rec.end_gap.clone()).as_f64(),
+                obstacle_speed: rec.obstacle_speed.as_f64(),
+                gap: rec.end_gap.as_f64(),
+            });
+        }
+    }
+    rows
+}
+
+/// The number of periods after which a run certainly has ended: the robot reaches the
+/// obstacle's start within this many periods even if the obstacle stands still, then
+/// stops within v_max/(b·dt) more.
+pub fn horizon(params: &Params<f64>) -> usize {
+    let p = params;
+    let reach = p.v_max / p.a + (p.g0 + p.clearance) / p.v_max;
+    let stop = p.v_max / p.b;
+    ((reach + stop) / p.dt).ceil() as usize + p.L + 4
+}
+
+/// Monte Carlo summary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MonteCarlo {
+    /// Runs simulated.
+    pub runs: usize,
+    /// Runs that collided.
+    pub collisions: usize,
+    /// Lowest gap seen while the robot moved, over all runs (m).
+    pub min_separation: f64,
+    /// Seed of the first run; run i uses seed + i.
+    pub seed: u64,
+}
+
+/// The obstacle speeds of Monte Carlo run `i`: uniform in (0, W] each period, from a
+/// ChaCha8 stream seeded with `seed + i` (reproducible across platforms and releases).
+pub fn random_speeds(w: f64, seed: u64, i: usize) -> impl FnMut(usize) -> f64 {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(i as u64));
+    move |_| w * (1.0 - rng.random::<f64>())
+}
+
+/// Simulates `runs` random obstacle behaviours.
+pub fn monte_carlo(params: &Params<f64>, runs: usize, seed: u64) -> MonteCarlo {
+    let max = horizon(params);
+    let mut summary = MonteCarlo {
+        runs,
+        collisions: 0,
+        min_separation: f64::INFINITY,
+        seed,
+    };
+    for i in 0..runs {
+        let run = run(params.clone(), random_speeds(params.W, seed, i), max, true);
+        if run.outcome.collided {
+            summary.collisions += 1;
+        }
+        if let Some(g) = run.outcome.min_moving_gap {
+            summary.min_separation = summary.min_separation.min(g);
+        }
+    }
+    summary
+}
