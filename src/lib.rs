@@ -36,6 +36,7 @@ pub mod certificate;
 pub mod lp;
 pub mod model;
 pub mod num;
+pub mod output;
 pub mod program;
 pub mod schedule;
 pub mod semantics;

@@ -1,1 +1,295 @@
-fn main() {}
+//! The `safereach` command: a thin shell over the library.
+//!
+//! Exit codes: `certify` 0 certified, 1 refuted, 3 inconclusive; `check` 0 valid,
+//! 1 invalid; `simulate` 0 no collision, 1 a collision; 2 always means bad input or an
+//! internal error.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+
+use safereach::analysis::{self, Verdict};
+use safereach::certificate::{self, Certificate};
+use safereach::model::Problem;
+use safereach::output::{trace_csv, write_atomic};
+use safereach::simulate;
+
+#[derive(Parser)]
+#[command(
+    name = "safereach",
+    version,
+    about = "Certify or refute passive safety of a mobile robot against oncoming obstacles"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Certify or refute passive safety for a problem file (exit 0 certified, 1 refuted, 3 inconclusive).
+    Certify {
+        /// Problem file (TOML).
+        problem: PathBuf,
+        /// Override a key, e.g. `environment.obstacle_speed=0.25` (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Print the certificate as JSON instead of a summary.
+        #[arg(long)]
+        json: bool,
+        /// Write the certificate to this file (atomically).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Re-verify a certificate in exact arithmetic, without the solver (exit 0 valid, 1 invalid).
+    Check {
+        /// Certificate file (JSON).
+        certificate: PathBuf,
+    },
+    /// Simulate random obstacle behaviours, or replay a certificate's witness.
+    Simulate {
+        /// Problem file (TOML).
+        problem: PathBuf,
+        /// Override a key (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Number of random runs.
+        #[arg(long, default_value_t = 1000)]
+        runs: usize,
+        /// Seed of the first run (run i uses seed + i).
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Replay this certificate's witness instead of random runs.
+        #[arg(long, value_name = "CERT")]
+        replay: Option<PathBuf>,
+        /// Write the replayed run (or the random run that came closest) as CSV.
+        #[arg(long, value_name = "FILE")]
+        trace: Option<PathBuf>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::Certify {
+            problem,
+            sets,
+            json,
+            out,
+        } => certify(&problem, &sets, json, out.as_deref()),
+        Command::Check { certificate } => check(&certificate),
+        Command::Simulate {
+            problem,
+            sets,
+            runs,
+            seed,
+            replay,
+            trace,
+            json,
+        } => simulate_cmd(
+            &problem,
+            &sets,
+            runs,
+            seed,
+            replay.as_deref(),
+            trace.as_deref(),
+            json,
+        ),
+    }
+}
+
+fn load(problem: &Path, sets: &[String]) -> Result<Problem> {
+    Ok(Problem::load_with_overrides(problem, sets)?)
+}
+
+fn certify(problem: &Path, sets: &[String], json: bool, out: Option<&Path>) -> Result<ExitCode> {
+    let problem = load(problem, sets)?;
+    let analysis = analysis::analyse(&problem).context("analysis failed")?;
+    let cert = Certificate::from_analysis(&analysis);
+    // Never print a verdict the exact checker would not accept.
+    certificate::check(&cert)
+        .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
+    let text = serde_json::to_string_pretty(&cert)? + "\n";
+    if let Some(path) = out {
+        write_atomic(path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if json {
+        print!("{text}");
+    } else {
+        print!("{}", summary(&cert));
+    }
+    Ok(ExitCode::from(match cert.verdict {
+        Verdict::Certified => 0,
+        Verdict::Refuted => 1,
+        Verdict::Inconclusive => 3,
+    }))
+}
+
+fn summary(cert: &Certificate) -> String {
+    let mut s = format!("{}: {}\n", cert.problem.name, cert.verdict.as_str());
+    let sep = match (cert.min_separation, cert.never_stops) {
+        (_, true) => "-inf (the robot can miss the obstacle entirely and never brake)".to_string(),
+        (Some(x), _) => format!("{x:.6} m"),
+        (None, _) => "unknown (no worst case could be realised)".to_string(),
+    };
+    s += &format!("  worst-case minimum separation s* = {sep}\n");
+    match cert.lower_bound {
+        Some(lb) => {
+            s += &format!(
+                "  rigorous lower bound {lb:.9} m vs clearance {} m\n",
+                cert.clearance
+            )
+        }
+        None => s += "  no finite lower bound proved\n",
+    }
+    if let Some(w) = &cert.witness {
+        let brake = w
+            .steps
+            .iter()
+            .find(|r| r.robot_mode == safereach::semantics::Mode::Brake);
+        let last = w.steps.last();
+        s += &format!(
+            "  worst case: {}{}{}\n",
+            if w.collides {
+                "collides"
+            } else {
+                "closest approach"
+            },
+            brake
+                .map(|b| format!(", robot brakes at t = {:.3} s", b.t))
+                .unwrap_or_default(),
+            last.map(|l| format!(", ends at t = {:.3} s with gap {:.6} m", l.t, l.gap))
+                .unwrap_or_default(),
+        );
+    }
+    s += &format!(
+        "  pieces: {} ({} linear programs solved)\n",
+        cert.pieces, cert.programs_solved
+    );
+    s += "  premises:\n";
+    for p in &cert.premises {
+        s += &format!("    {}: {} {} {}\n", p.name, p.description, p.bound, p.unit);
+    }
+    s
+}
+
+fn read_certificate(path: &Path) -> Result<Certificate> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a safereach certificate", path.display()))
+}
+
+fn check(path: &Path) -> Result<ExitCode> {
+    let cert = read_certificate(path)?;
+    match certificate::check(&cert) {
+        Ok(report) => {
+            println!(
+                "{}: valid; verdict {} re-verified in exact arithmetic over {} pieces",
+                path.display(),
+                report.verdict.as_str(),
+                report.pieces
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => {
+            println!("{}: INVALID: {e}", path.display());
+            Ok(ExitCode::from(1))
+        }
+    }
+}
+
+fn simulate_cmd(
+    problem: &Path,
+    sets: &[String],
+    runs: usize,
+    seed: u64,
+    replay: Option<&Path>,
+    trace: Option<&Path>,
+    json: bool,
+) -> Result<ExitCode> {
+    let problem = load(problem, sets)?;
+    let exact = problem.params::<safereach::num::Exact>();
+    let floats = analysis::params_f64(&exact);
+    if let Some(cert_path) = replay {
+        let cert = read_certificate(cert_path)?;
+        let witness = cert.witness.as_ref().with_context(|| {
+            format!(
+                "{}: the certificate has no witness to replay",
+                cert_path.display()
+            )
+        })?;
+        let run = simulate::replay_exact(
+            &exact,
+            &witness.obstacle_speeds,
+            witness.obstacle_speeds.len(),
+        );
+        let rows = simulate::trace(&exact, &run);
+        if let Some(path) = trace {
+            write_atomic(path, trace_csv(&rows, "0").as_bytes())
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        let sep = run.outcome.rest_gap.as_ref().map(|g| g.to_f64().value());
+        if json {
+            println!(
+                "{}",
+                serde_json::json!({"replay": cert_path, "collided": run.outcome.collided, "separation": sep, "steps": rows.len()})
+            );
+        } else {
+            println!(
+                "replayed {}: {} periods, {}, separation at rest {}",
+                cert_path.display(),
+                run.records.len(),
+                if run.outcome.collided {
+                    "COLLISION"
+                } else {
+                    "no collision"
+                },
+                sep.map(|s| format!("{s:.9} m"))
+                    .unwrap_or_else(|| "- (never stopped)".into())
+            );
+        }
+        return Ok(ExitCode::from(u8::from(run.outcome.collided)));
+    }
+    if runs == 0 {
+        anyhow::bail!("--runs must be at least 1");
+    }
+    let mc = simulate::monte_carlo(&floats, runs, seed);
+    if let Some(path) = trace {
+        let max = simulate::horizon(&floats);
+        let run = simulate::run(
+            floats.clone(),
+            simulate::random_speeds(floats.W, seed, mc.closest_run),
+            max,
+            false,
+        );
+        let rows = simulate::trace(&floats, &run);
+        write_atomic(path, trace_csv(&rows, "0").as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if json {
+        println!("{}", serde_json::to_string(&mc)?);
+    } else {
+        println!(
+            "{}: {} runs (seed {}), {} collisions, minimum separation seen {:.6} m (run {})",
+            problem.name, mc.runs, mc.seed, mc.collisions, mc.min_separation, mc.closest_run
+        );
+    }
+    Ok(ExitCode::from(u8::from(mc.collisions > 0)))
+}

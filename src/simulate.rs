@@ -178,6 +178,8 @@ pub struct MonteCarlo {
     pub min_separation: f64,
     /// Seed of the first run; run i uses seed + i.
     pub seed: u64,
+    /// Index of the run that came closest.
+    pub closest_run: usize,
 }
 
 /// The obstacle speeds of Monte Carlo run `i`: uniform in (0, W] each period, from a
@@ -193,16 +195,20 @@ pub fn monte_carlo(params: &Params<f64>, runs: usize, seed: u64) -> MonteCarlo {
     let mut summary = MonteCarlo {
         runs,
         collisions: 0,
-        min_separation: f64::INFINITY,
+        min_separation: params.g0,
         seed,
+        closest_run: 0,
     };
     for i in 0..runs {
         let run = run(params.clone(), random_speeds(params.W, seed, i), max, true);
         if run.outcome.collided {
             summary.collisions += 1;
         }
-        if let Some(g) = run.outcome.min_moving_gap {
-            summary.min_separation = summary.min_separation.min(g);
+        if let Some(g) = run.outcome.min_moving_gap
+            && g < summary.min_separation
+        {
+            summary.min_separation = g;
+            summary.closest_run = i;
         }
     }
     summary

@@ -1,0 +1,52 @@
+//! Writing results: atomically (temp file + rename), so a reader never sees half a file and
+//! a failed run never destroys the previous result.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::simulate::TraceRow;
+
+/// Writes `bytes` to `path` via a temporary file in the same directory and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// A trace as CSV in the monitor's format: `t,robot_x,robot_v,robot_mode,obstacle_id,
+/// obstacle_x,obstacle_v`, where a row's `obstacle_v` is the obstacle's speed over the
+/// period that ends at `t` (0 at the start).
+pub fn trace_csv(rows: &[TraceRow], obstacle_id: &str) -> String {
+    let mut out = String::from("t,robot_x,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_v\n");
+    let mut previous = 0.0;
+    for r in rows {
+        out.push_str(&format!(
+            "{},{},{},{},{},{},{}\n",
+            r.t,
+            r.robot_position,
+            r.robot_speed,
+            r.robot_mode.as_str(),
+            obstacle_id,
+            r.obstacle_position,
+            previous
+        ));
+        previous = r.obstacle_speed;
+    }
+    out
+}
