@@ -323,7 +323,7 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     if let Some(k) = w
         .obstacle_speeds
         .iter()
-        .position(|&s| !(s >= 0.0) || crate::num::exact_float(s) > *bound)
+        .position(|&s| s.is_nan() || s < 0.0 || crate::num::exact_float(s) > *bound)
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }

@@ -400,7 +400,7 @@ impl Decomposition {
                         dk,
                     );
                     for k in e..t {
-                        if k > l && k - l - 1 >= m {
+                        if k > l + m {
                             vars[w_var(k - l - 1)].upper = p.V_a.clone();
                         }
                     }

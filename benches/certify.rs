@@ -1,0 +1,113 @@
+//! Benchmark: certify the seed problem in the library, and the analyser against the
+//! brake-on-entry closed form on the same problems. Run with `cargo bench --bench certify`.
+//!
+//! Plain wall-clock medians over many repetitions (no timing assertions anywhere: speed is
+//! measured here, never in tests).
+
+use std::hint::black_box;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use safereach::analysis::analyse;
+use safereach::certificate::{Certificate, check};
+use safereach::model::{DangerRule, Problem};
+
+/// Median time per call of `f`, over `rounds` rounds of `per_round` calls.
+fn median(rounds: usize, per_round: usize, mut f: impl FnMut()) -> Duration {
+    let mut times: Vec<Duration> = (0..rounds)
+        .map(|_| {
+            let start = Instant::now();
+            for _ in 0..per_round {
+                f();
+            }
+            start.elapsed() / per_round as u32
+        })
+        .collect();
+    times.sort();
+    times[rounds / 2]
+}
+
+fn closed_form(p: &Problem) -> f64 {
+    let v = p.robot.max_speed;
+    let b = p.robot.braking;
+    let w = p.environment.obstacle_speed;
+    p.controller.reaction_radius - (v + w) * p.robot.control_period - v * v / (2.0 * b) - w * v / b
+}
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let seed = Problem::load(&root.join("problems/seed.toml")).expect("seed problem loads");
+
+    let analysis = analyse(&seed).expect("seed analyses");
+    let cert = Certificate::from_analysis(&analysis);
+    check(&cert).expect("seed certificate verifies");
+    println!(
+        "seed: verdict {}, s* = {:?}, {} pieces, {} linear programs per certificate",
+        analysis.verdict.as_str(),
+        analysis.min_separation,
+        analysis.outcomes.len(),
+        analysis.programs_solved
+    );
+    let t_analyse = median(31, 20, || {
+        black_box(analyse(black_box(&seed)).expect("analyses"));
+    });
+    let t_check = median(31, 20, || {
+        black_box(check(black_box(&cert)).expect("verifies"));
+    });
+    let t_full = median(31, 20, || {
+        let a = analyse(black_box(&seed)).expect("analyses");
+        let c = Certificate::from_analysis(&a);
+        black_box(check(&c).expect("verifies"));
+    });
+    println!(
+        "seed: analyse (solve + witness)            {:>10.1} µs",
+        t_analyse.as_secs_f64() * 1e6
+    );
+    println!(
+        "seed: check (exact, no solver)              {:>10.1} µs",
+        t_check.as_secs_f64() * 1e6
+    );
+    println!(
+        "seed: certify = analyse + certificate + check {:>8.1} µs",
+        t_full.as_secs_f64() * 1e6
+    );
+
+    // Brake-on-entry, latency 0: the analyser against the closed form on the same cases.
+    let mut cases = Vec::new();
+    for (i, w) in [0.05, 0.1, 0.15, 0.2, 0.3].iter().enumerate() {
+        for rho in [1.0, 1.2, 1.4, 1.6] {
+            let mut p = seed.clone();
+            p.name = format!("entry-{i}");
+            p.controller.danger_rule = DangerRule::Area;
+            p.robot.latency = 0;
+            p.environment.obstacle_speed = *w;
+            p.controller.reaction_radius = rho;
+            cases.push(p);
+        }
+    }
+    let mut worst_gap: f64 = 0.0;
+    for p in &cases {
+        let a = analyse(p).expect("analyses");
+        if let Some(s) = a.min_separation {
+            worst_gap = worst_gap.max((s - closed_form(p)).abs());
+        }
+    }
+    let t_cases = median(11, 3, || {
+        for p in &cases {
+            black_box(analyse(black_box(p)).expect("analyses"));
+        }
+    }) / cases.len() as u32;
+    let t_formula = median(11, 10_000, || {
+        for p in &cases {
+            black_box(closed_form(black_box(p)));
+        }
+    }) / cases.len() as u32;
+    println!(
+        "brake-on-entry ({} cases): analyser {:.1} µs/case, closed form {:.4} µs/case, ratio {:.0}x; max |s* - closed form| = {:.1e} m",
+        cases.len(),
+        t_cases.as_secs_f64() * 1e6,
+        t_formula.as_secs_f64() * 1e6,
+        t_cases.as_secs_f64() / t_formula.as_secs_f64(),
+        worst_gap
+    );
+}
