@@ -24,6 +24,8 @@ use crate::simulate::{self, TraceRow};
 pub const WITNESS_MARGIN: f64 = 1e-7;
 /// A witness must replay to within this of its piece's optimum (m).
 pub const REPLAY_TOLERANCE: f64 = 1e-6;
+/// A witness's trace rows must match their exact replay to within this (m, s, m/s).
+pub const TRACE_TOLERANCE: f64 = 1e-9;
 
 /// The three-valued answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -138,10 +140,10 @@ pub enum AnalysisError {
 pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
     let dec = Decomposition::new(problem);
     let mut solved = 0;
+    let programs: Vec<Program> = dec.pieces.iter().map(|piece| dec.program(piece)).collect();
     let mut outcomes = Vec::with_capacity(dec.pieces.len());
-    for piece in &dec.pieces {
-        let program = dec.program(piece);
-        let result = prove(&program, piece, &mut solved);
+    for (piece, program) in dec.pieces.iter().zip(&programs) {
+        let result = prove(program, piece, &mut solved);
         outcomes.push(PieceOutcome {
             piece: *piece,
             result,
@@ -200,7 +202,7 @@ pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
     let mut never_stops = false;
     for &(value, i) in &candidates {
         let piece = &outcomes[i].piece;
-        if let Some(w) = extract_witness(&dec, piece, value, &mut solved) {
+        if let Some(w) = extract_witness(&dec, piece, &programs[i], value, &mut solved) {
             never_stops = !piece.has_objective();
             min_separation = if never_stops { None } else { Some(value) };
             witness = Some(w);
@@ -297,21 +299,22 @@ fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
 }
 
 /// Re-solves a piece with strict rows kept inside, turns the point into obstacle speeds and
-/// replays them exactly. Returns the witness if the replay realises the piece's optimum
-/// (or, for a pass-through, collides without braking).
+/// replays them exactly (floats would misplace a guard that lands exactly on its threshold).
+/// Returns the witness if the replay realises the piece's optimum (or, for a pass-through,
+/// collides without braking).
 fn extract_witness(
     dec: &Decomposition,
     piece: &Piece,
+    program: &Program,
     value: f64,
     solved: &mut usize,
 ) -> Option<Witness> {
-    let program = dec.program(piece);
     for margin in [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2] {
         *solved += 1;
-        let LpOutcome::Optimal { x, .. } = lp::solve(&program, margin) else {
+        let LpOutcome::Optimal { x, .. } = lp::solve(program, margin) else {
             continue;
         };
-        let (shift, speeds) = speeds_from_point(dec, piece, &program, &x);
+        let (shift, speeds) = speeds_from_point(dec, piece, program, &x);
         let witness = replay_witness(dec, *piece, shift, margin, speeds);
         let realised = if piece.has_objective() {
             witness
@@ -374,21 +377,18 @@ fn replay_witness(
     mut speeds: Vec<f64>,
 ) -> Witness {
     let params = &dec.params;
-    let pf: Params<f64> = params_f64(params);
-    let max_steps = piece.brake + shift + simulate::horizon(&pf);
-    let tail = f64_at_most(&params.W);
-    speeds.resize(max_steps, tail);
-    let run = simulate::replay_exact(params, &speeds, max_steps);
+    let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
+    speeds.resize(max_steps, f64_at_most(&params.W));
+    let run = simulate::replay_exact(params, &speeds, max_steps, !piece.has_objective());
     speeds.truncate(run.records.len());
-    let steps = simulate::trace(params, &run);
     Witness {
         piece,
         shift,
         margin,
         obstacle_speeds: speeds,
         collides: run.outcome.collided,
-        separation: run.outcome.rest_gap.as_ref().map(|g| g.as_f64()),
-        steps,
+        separation: run.outcome.rest_gap.as_ref().map(f64_at_most),
+        steps: simulate::trace(params, &run),
     }
 }
 
@@ -413,7 +413,7 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
 
 /// Replays a witness's obstacle speeds exactly (used by `check` and by tests).
 pub fn replay(params: &Params<Exact>, speeds: &[f64]) -> simulate::Run<Exact> {
-    simulate::replay_exact(params, speeds, speeds.len())
+    simulate::replay_exact(params, speeds, speeds.len(), false)
 }
 
 /// Whether a piece ends in a pass-through (a robot that never brakes).

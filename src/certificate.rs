@@ -19,7 +19,7 @@
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::analysis::{Analysis, PieceResult, REPLAY_TOLERANCE, Verdict, Witness};
+use crate::analysis::{Analysis, PieceResult, REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
 use crate::model::Problem;
 use crate::num::{Exact, exact_decimal, f64_at_most};
 use crate::program::ProofKind;
@@ -327,12 +327,23 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }
-    let run = simulate::replay_exact(&params, &w.obstacle_speeds, w.obstacle_speeds.len());
+    let run = simulate::replay_exact(&params, &w.obstacle_speeds, w.obstacle_speeds.len(), false);
     if run.records.len() != w.obstacle_speeds.len() {
         return invalid("witness lists speeds past the end of its run");
     }
     let steps = simulate::trace(&params, &run);
-    if steps != w.steps {
+    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
+    let same = steps.len() == w.steps.len()
+        && steps.iter().zip(&w.steps).all(|(a, b)| {
+            a.robot_mode == b.robot_mode
+                && close(a.t, b.t)
+                && close(a.robot_position, b.robot_position)
+                && close(a.robot_speed, b.robot_speed)
+                && close(a.obstacle_position, b.obstacle_position)
+                && close(a.obstacle_speed, b.obstacle_speed)
+                && close(a.gap, b.gap)
+        });
+    if !same {
         return invalid("witness trace differs from its exact replay");
     }
     if run.outcome.collided != w.collides {

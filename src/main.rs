@@ -239,6 +239,7 @@ fn simulate_cmd(
             &exact,
             &witness.obstacle_speeds,
             witness.obstacle_speeds.len(),
+            false,
         );
         let rows = simulate::trace(&exact, &run);
         if let Some(path) = trace {

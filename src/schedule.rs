@@ -124,6 +124,28 @@ pub struct Decomposition {
     pub last_brake: usize,
     /// All pieces, in a fixed order (the certificate lists proofs in this order).
     pub pieces: Vec<Piece>,
+    /// Time and distance to stop when braking from v_max (shared by every cruising piece).
+    cruise_stop: (Exact, Exact),
+}
+
+/// Time and distance the robot needs to stop when it brakes from speed `v`, by iterating the
+/// step function in Brake.
+fn stopping(p: &Params<Exact>, v: Exact) -> (Exact, Exact) {
+    let mut state = RobotState {
+        position: Exact::ZERO,
+        speed: v,
+        mode: Mode::Brake,
+    };
+    let mut time = Exact::ZERO;
+    loop {
+        let motion = robot_motion(p, &state);
+        time += motion.moving_for.clone();
+        let stopped = motion.end.mode == Mode::Stop;
+        state = motion.end;
+        if stopped {
+            return (time, state.position);
+        }
+    }
 }
 
 impl Decomposition {
@@ -144,6 +166,7 @@ impl Decomposition {
             profile.push(motion.end);
         }
         let mut d = Decomposition {
+            cruise_stop: stopping(&params, params.v_max.clone()),
             cruise_from: profile.len() - 1,
             profile,
             params,
@@ -289,19 +312,16 @@ impl Decomposition {
 
     /// Time and position at which the robot comes to rest after braking at step T's start.
     pub fn rest(&self, t: usize) -> (Exact, Exact) {
-        let p = &self.params;
-        let mut state = self.drive(t);
-        state.mode = Mode::Brake;
-        let mut time = Exact::from(t) * p.dt.clone();
-        loop {
-            let motion = robot_motion(p, &state);
-            time += motion.moving_for.clone();
-            let stopped = motion.end.mode == Mode::Stop;
-            state = motion.end;
-            if stopped {
-                return (time, state.position);
-            }
-        }
+        let start = self.drive(t);
+        let (time, distance) = if t >= self.cruise_from {
+            self.cruise_stop.clone()
+        } else {
+            stopping(&self.params, start.speed)
+        };
+        (
+            Exact::from(t) * self.params.dt.clone() + time,
+            start.position + distance,
+        )
     }
 
     /// The linear program of a piece (see the module docs for its rows).

@@ -91,8 +91,7 @@ pub fn run<N: Scalar>(
         records.push(rec);
         if hit {
             outcome.collided = true;
-            if stop_at_collision || world.robot().mode != crate::semantics::Mode::Brake {
-                // A robot that has not braked never will: nothing more to see.
+            if stop_at_collision {
                 break;
             }
         }
@@ -100,8 +99,14 @@ pub fn run<N: Scalar>(
     Run { records, outcome }
 }
 
-/// Replays obstacle speeds exactly (`speeds[k]` in period k; W after the last one).
-pub fn replay_exact(params: &Params<Exact>, speeds: &[f64], max_steps: usize) -> Run<Exact> {
+/// Replays obstacle speeds exactly (`speeds[k]` in period k; W after the last one) for at
+/// most `max_steps` periods, until the robot rests (or, with `stop_at_collision`, collides).
+pub fn replay_exact(
+    params: &Params<Exact>,
+    speeds: &[f64],
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<Exact> {
     let tail = params.W.clone();
     run(
         params.clone(),
@@ -112,7 +117,7 @@ pub fn replay_exact(params: &Params<Exact>, speeds: &[f64], max_steps: usize) ->
                 .unwrap_or_else(|| tail.clone())
         },
         max_steps,
-        false,
+        stop_at_collision,
     )
 }
 
@@ -120,7 +125,8 @@ pub fn replay_exact(params: &Params<Exact>, speeds: &[f64], max_steps: usize) ->
 /// to rest (or, after a collision, at the end of the colliding period).
 pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
     let mut rows = Vec::new();
-    for rec in &run.records {
+    let last = run.records.len().saturating_sub(1);
+    for (i, rec) in run.records.iter().enumerate() {
         let t = N::int(rec.k as i64) * params.dt.clone();
         rows.push(TraceRow {
             t: t.as_f64(),
@@ -142,7 +148,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
                 obstacle_speed: rec.obstacle_speed.as_f64(),
                 gap: g.as_f64(),
             });
-        } else if rec.collision && rec.robot.mode != Mode::Brake {
+        } else if i == last && rec.collision && !rec.motion.came_to_rest() {
             rows.push(TraceRow {
                 t: (t + params.dt.clone()).as_f64(),
                 robot_position: end.position.as_f64(),
