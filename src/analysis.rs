@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::lp::{self, LpOutcome};
 use crate::model::{Params, Problem};
-use crate::num::{Exact, Scalar, exact_float, f64_at_most};
+use crate::num::{Exact, exact_float, f64_at_most};
 use crate::program::{Program, ProofKind};
 use crate::schedule::{Decomposition, Ending, Piece};
 use crate::simulate::{self, TraceRow};
@@ -356,11 +356,7 @@ fn speeds_from_point(
     let m2 = m + shift;
     let mut speeds = Vec::with_capacity(n + shift + 32);
     if m2 > 0 {
-        // Prefix: the constant speed that brings the gap to u at step m2.
-        let s = p.g0.clone() - dec.position(m2) - u;
-        let w = s / (Exact::from(m2) * p.dt.clone());
-        let w = clamp(w, &Exact::ZERO, &p.W);
-        speeds.resize(m2, f64_at_most(&w));
+        speeds = prefix_speeds(p, m2, p.g0.clone() - dec.position(m2) - u);
     }
     for (j, var) in program.vars.iter().enumerate().skip(1).take(n - m) {
         let w = clamp(exact_float(x[j]), &var.lower, &var.upper);
@@ -395,19 +391,39 @@ fn replay_witness(
 /// The nearest-float version of exact parameters.
 pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
     Params {
-        v_max: p.v_max.as_f64(),
-        a: p.a.as_f64(),
-        b: p.b.as_f64(),
-        dt: p.dt.as_f64(),
+        v_max: p.v_max.to_f64().value(),
+        a: p.a.to_f64().value(),
+        b: p.b.to_f64().value(),
+        dt: p.dt.to_f64().value(),
         L: p.L,
-        clearance: p.clearance.as_f64(),
-        V_a: p.V_a.as_f64(),
-        rho: p.rho.as_f64(),
+        clearance: p.clearance.to_f64().value(),
+        V_a: p.V_a.to_f64().value(),
+        rho: p.rho.to_f64().value(),
         rule: p.rule,
-        buffer: p.buffer.as_f64(),
+        buffer: p.buffer.to_f64().value(),
         wrong_assumption_brake: p.wrong_assumption_brake,
-        W: p.W.as_f64(),
-        g0: p.g0.as_f64(),
+        W: p.W.to_f64().value(),
+        g0: p.g0.to_f64().value(),
+    }
+}
+
+/// Obstacle speeds for the first `m` periods that cover `distance` in total: a constant
+/// speed rounded down to a multiple of 2⁻³⁰ m/s, with the remainder in the last period.
+/// Short dyadic speeds keep the exact replay's numbers small (a 53-bit float speed held for
+/// hundreds of periods makes every later position a long fraction).
+fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Vec<f64> {
+    let total = clamp(distance / p.dt.clone(), &Exact::ZERO, &(Exact::from(m) * p.W.clone()));
+    let scale = Exact::from(1u64 << 30);
+    let each = Exact::from((total.clone() * scale.clone() / Exact::from(m)).floor()) / scale;
+    let last = total - each.clone() * Exact::from(m - 1);
+    if last <= p.W {
+        let mut speeds = vec![f64_at_most(&each); m - 1];
+        speeds.push(f64_at_most(&last));
+        speeds
+    } else {
+        // Only when the total is within m·2⁻³⁰ of m·W: spread it evenly.
+        let w = (each * Exact::from(m - 1) + last) / Exact::from(m);
+        vec![f64_at_most(&clamp(w, &Exact::ZERO, &p.W)); m]
     }
 }
 

@@ -16,6 +16,8 @@ use safereach::model::Problem;
 use safereach::output::{trace_csv, write_atomic};
 use safereach::simulate;
 
+mod commands;
+
 #[derive(Parser)]
 #[command(
     name = "safereach",
@@ -71,6 +73,12 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Check live traces against a certificate's premises (exit 0 held, 1 violated).
+    Monitor(commands::monitor::MonitorArgs),
+    /// Exhaustive breadth-first exploration of the finite model (obstacle speeds from a finite set).
+    Explore(commands::explore::ExploreArgs),
+    /// Export the finite model as UPPAAL timed automata (XML) plus the safety query (.q).
+    ExportUppaal(commands::explore::ExportUppaalArgs),
 }
 
 fn main() -> ExitCode {
@@ -110,6 +118,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
             trace.as_deref(),
             json,
         ),
+        Command::Monitor(args) => commands::monitor::run(args),
+        Command::Explore(args) => commands::explore::run(args),
+        Command::ExportUppaal(args) => commands::explore::export_uppaal(args),
     }
 }
 

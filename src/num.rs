@@ -33,7 +33,7 @@ pub trait Scalar:
     /// The value a problem file means by `x`: for exact numbers the shortest decimal that
     /// round-trips to `x` (so `0.1` is one tenth), for `f64` the float itself.
     fn decimal(x: f64) -> Self;
-    /// Nearest `f64`.
+    /// An `f64` within a few ulps (for display and traces; decisions never use it).
     fn as_f64(&self) -> f64;
     /// The smaller of two numbers.
     fn min_of(a: Self, b: Self) -> Self {
@@ -71,7 +71,7 @@ impl Scalar for RBig {
         exact_decimal(x)
     }
     fn as_f64(&self) -> f64 {
-        self.to_f64().value()
+        self.to_f64_fast()
     }
 }
 
