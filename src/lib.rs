@@ -33,11 +33,14 @@
 
 pub mod analysis;
 pub mod certificate;
+pub mod explore;
 pub mod lp;
 pub mod model;
+pub mod monitor;
 pub mod num;
 pub mod output;
 pub mod program;
 pub mod schedule;
 pub mod semantics;
 pub mod simulate;
+pub mod uppaal;
