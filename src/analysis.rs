@@ -136,8 +136,32 @@ pub enum AnalysisError {
     Inconsistent(String),
 }
 
-/// Analyses a (validated) problem.
+/// When the analyser extracts and replays a worst-case witness.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum WitnessPolicy {
+    /// Always: the colliding behaviour when refuted, the closest approach when certified.
+    #[default]
+    Always,
+    /// Only when the problem is not certified (a refutation always needs its witness). A
+    /// certified answer then reports s* as the least piece optimum, unreplayed — what sweeps
+    /// and boundary searches want, at a fraction of the cost.
+    ToRefute,
+}
+
+/// Analysis options.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// When to extract a witness.
+    pub witness: WitnessPolicy,
+}
+
+/// Analyses a (validated) problem with the default options.
 pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
+    analyse_with(problem, Options::default())
+}
+
+/// Analyses a (validated) problem.
+pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, AnalysisError> {
     let dec = Decomposition::new(problem);
     let mut solved = 0;
     let programs: Vec<Program> = dec.pieces.iter().map(|piece| dec.program(piece)).collect();
@@ -200,7 +224,11 @@ pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
     let mut witness = None;
     let mut min_separation = None;
     let mut never_stops = false;
-    for &(value, i) in &candidates {
+    let skip = certified && options.witness == WitnessPolicy::ToRefute;
+    if skip {
+        min_separation = candidates.first().map(|c| c.0);
+    }
+    for &(value, i) in candidates.iter().filter(|_| !skip) {
         let piece = &outcomes[i].piece;
         if let Some(w) = extract_witness(&dec, piece, &programs[i], value, &mut solved) {
             never_stops = !piece.has_objective();
@@ -412,7 +440,11 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
 /// Short dyadic speeds keep the exact replay's numbers small (a 53-bit float speed held for
 /// hundreds of periods makes every later position a long fraction).
 fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Vec<f64> {
-    let total = clamp(distance / p.dt.clone(), &Exact::ZERO, &(Exact::from(m) * p.W.clone()));
+    let total = clamp(
+        distance / p.dt.clone(),
+        &Exact::ZERO,
+        &(Exact::from(m) * p.W.clone()),
+    );
     let scale = Exact::from(1u64 << 30);
     let each = Exact::from((total.clone() * scale.clone() / Exact::from(m)).floor()) / scale;
     let last = total - each.clone() * Exact::from(m - 1);

@@ -40,6 +40,7 @@ pub mod monitor;
 pub mod num;
 pub mod output;
 pub mod program;
+pub mod radius;
 pub mod schedule;
 pub mod semantics;
 pub mod simulate;

@@ -73,6 +73,10 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The smallest certified reaction radius for the obstacle speed bound (exit 1 if none).
+    Radius(commands::radius::RadiusArgs),
+    /// The largest certified obstacle speed bound for the reaction radius (exit 1 if none).
+    MaxSpeed(commands::radius::MaxSpeedArgs),
     /// Check live traces against a certificate's premises (exit 0 held, 1 violated).
     Monitor(commands::monitor::MonitorArgs),
     /// Exhaustive breadth-first exploration of the finite model (obstacle speeds from a finite set).
@@ -118,6 +122,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             trace.as_deref(),
             json,
         ),
+        Command::Radius(args) => commands::radius::run(args),
+        Command::MaxSpeed(args) => commands::radius::max_speed(args),
         Command::Monitor(args) => commands::monitor::run(args),
         Command::Explore(args) => commands::explore::run(args),
         Command::ExportUppaal(args) => commands::explore::export_uppaal(args),

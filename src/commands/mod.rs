@@ -2,3 +2,4 @@
 
 pub mod explore;
 pub mod monitor;
+pub mod radius;
