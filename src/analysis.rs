@@ -173,36 +173,8 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
             result,
         });
     }
-    let mut lower_bound: Option<Exact> = None;
-    let mut all_proved = true;
-    for o in &outcomes {
-        match &o.result {
-            PieceResult::Proved {
-                kind: ProofKind::Bound,
-                bound,
-                ..
-            } => {
-                if lower_bound.as_ref().is_none_or(|lb| bound < lb) {
-                    lower_bound = Some(bound.clone());
-                }
-            }
-            PieceResult::Proved {
-                kind: ProofKind::Infeasible,
-                ..
-            } => {}
-            PieceResult::Unproved { .. } => all_proved = false,
-        }
-    }
     let params: Params<Exact> = dec.params.clone();
-    if !all_proved {
-        lower_bound = None;
-    } else if lower_bound.is_none() {
-        // Every piece infeasible: no behaviour moves the robot near the obstacle at all.
-        lower_bound = Some(params.g0.clone());
-    }
-    let certified = lower_bound
-        .as_ref()
-        .is_some_and(|lb| *lb > params.clearance);
+    let (mut lower_bound, mut certified) = least_bound(&outcomes, &params);
 
     // Candidates for the worst case, most dangerous first.
     let mut candidates: Vec<(f64, usize)> = outcomes
@@ -228,6 +200,7 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
     if skip {
         min_separation = candidates.first().map(|c| c.0);
     }
+    let mut emptied = false;
     for &(value, i) in candidates.iter().filter(|_| !skip) {
         let piece = &outcomes[i].piece;
         if let Some(w) = extract_witness(&dec, piece, &programs[i], value, &mut solved) {
@@ -236,6 +209,20 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
             witness = Some(w);
             break;
         }
+        // No behaviour realises this piece's optimum: it may hold only on a guard's
+        // boundary, where the semantics' strict inequality excludes it. Prove that exactly.
+        if let Some((z, bound)) = prove_strictly_empty(&programs[i], &mut solved) {
+            outcomes[i].result = PieceResult::Proved {
+                kind: ProofKind::Infeasible,
+                z,
+                bound,
+                optimum: None,
+            };
+            emptied = true;
+        }
+    }
+    if emptied {
+        (lower_bound, certified) = least_bound(&outcomes, &params);
     }
     let collides = witness.as_ref().is_some_and(|w| w.collides);
     if certified && collides {
@@ -263,6 +250,73 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
     })
 }
 
+/// The least proved bound over all pieces (None: some piece is unproved) and whether it
+/// certifies.
+fn least_bound(outcomes: &[PieceOutcome], params: &Params<Exact>) -> (Option<Exact>, bool) {
+    let mut lower_bound: Option<Exact> = None;
+    for o in outcomes {
+        match &o.result {
+            PieceResult::Proved {
+                kind: ProofKind::Bound,
+                bound,
+                ..
+            } => {
+                if lower_bound.as_ref().is_none_or(|lb| bound < lb) {
+                    lower_bound = Some(bound.clone());
+                }
+            }
+            PieceResult::Proved {
+                kind: ProofKind::Infeasible,
+                ..
+            } => {}
+            PieceResult::Unproved { .. } => return (None, false),
+        }
+    }
+    // Every piece empty: no behaviour brings the robot near the obstacle at all.
+    let lower_bound = lower_bound.unwrap_or_else(|| params.g0.clone());
+    let certified = lower_bound > params.clearance;
+    (Some(lower_bound), certified)
+}
+
+/// Tries to prove that a piece's strict system (guards as the semantics states them) has no
+/// solution although its closure has: the solver's Farkas multipliers for the system with
+/// strict rows a margin inside, snapped to nearby simple fractions, must give a bound ≥ 0
+/// with weight on a strict row ([`Program::proves_empty`]).
+fn prove_strictly_empty(program: &Program, solved: &mut usize) -> Option<(Vec<f64>, Exact)> {
+    *solved += 1;
+    let LpOutcome::Infeasible { z } = lp::solve(program, WITNESS_MARGIN) else {
+        return None;
+    };
+    let scale = z.iter().cloned().fold(0.0, f64::max);
+    if scale.is_nan() || scale <= 0.0 {
+        return None;
+    }
+    let snapped: Vec<f64> = z.iter().map(|&zi| snap(zi / scale)).collect();
+    program.proves_empty(&snapped).map(|b| (snapped, b))
+}
+
+/// The fraction with denominator ≤ 1000 nearest `x` (continued fractions), as a float.
+fn snap(x: f64) -> f64 {
+    if x <= 1e-9 {
+        return 0.0;
+    }
+    let (mut h0, mut h1, mut k0, mut k1) = (0.0, 1.0, 1.0, 0.0);
+    let mut r = x;
+    for _ in 0..20 {
+        let a = r.floor();
+        let (h2, k2) = (a * h1 + h0, a * k1 + k0);
+        if k2 > 1000.0 {
+            break;
+        }
+        (h0, h1, k0, k1) = (h1, h2, k1, k2);
+        if (r - a).abs() < 1e-12 {
+            break;
+        }
+        r = 1.0 / (r - a);
+    }
+    h1 / k1
+}
+
 /// Finds a proof for one piece: cheap Farkas candidates first, then Clarabel.
 fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
     let rows = program.rows.len();
@@ -274,9 +328,7 @@ fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
     }
     farkas_candidates.push(vec![1.0; rows]);
     for z in farkas_candidates {
-        if let Some(b) = program.bound(&z, false)
-            && b > Exact::ZERO
-        {
+        if let Some(b) = program.proves_empty(&z) {
             return PieceResult::Proved {
                 kind: ProofKind::Infeasible,
                 z,
@@ -307,8 +359,8 @@ fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
                 },
             }
         }
-        LpOutcome::Infeasible { z } => match program.bound(&z, false) {
-            Some(b) if b > Exact::ZERO => PieceResult::Proved {
+        LpOutcome::Infeasible { z } => match program.proves_empty(&z) {
+            Some(b) => PieceResult::Proved {
                 kind: ProofKind::Infeasible,
                 z,
                 bound: b,
@@ -384,7 +436,27 @@ fn speeds_from_point(
     let m2 = m + shift;
     let mut speeds = Vec::with_capacity(n + shift + 32);
     if m2 > 0 {
-        speeds = prefix_speeds(p, m2, p.g0.clone() - dec.position(m2) - u);
+        let total = p.g0.clone() - dec.position(m2) - u.clone();
+        speeds = if piece.early {
+            // Scale the fastest approach that respects the area (see fastest_approach).
+            let (fast, lowest) = dec.fastest_approach(m2);
+            let span = p.g0.clone() - dec.position(m2) - lowest;
+            let mut lambda = if span > Exact::ZERO {
+                total / span
+            } else {
+                Exact::ZERO
+            };
+            let near_one = Exact::ONE - exact_float(1e-9);
+            if lambda > near_one {
+                // λ = 1 ends a step exactly on ρ at a speed above V_a: stay just outside.
+                lambda = near_one;
+            }
+            fast.iter()
+                .map(|w| f64_at_most(&clamp(lambda.clone() * w.clone(), &Exact::ZERO, &p.W)))
+                .collect()
+        } else {
+            prefix_speeds(p, m2, total)
+        };
     }
     for (j, var) in program.vars.iter().enumerate().skip(1).take(n - m) {
         let w = clamp(exact_float(x[j]), &var.lower, &var.upper);

@@ -259,8 +259,10 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
             ));
         }
         match kind {
-            ProofKind::Infeasible if exact <= Exact::ZERO => {
-                return invalid(format!("proof {i}: infeasibility proof is not positive"));
+            ProofKind::Infeasible if program.proves_empty(&proof.multipliers).is_none() => {
+                return invalid(format!(
+                    "proof {i}: the multipliers do not prove the piece empty"
+                ));
             }
             ProofKind::Infeasible => {}
             ProofKind::Bound => {
@@ -290,6 +292,10 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
         return invalid("premises differ from the problem's");
     }
     let collides = match &cert.witness {
+        // Without a witness there is nothing realising a worst case to report.
+        None if cert.min_separation.is_some() || cert.never_stops => {
+            return invalid("min_separation or never_stops is stated without a witness behind it");
+        }
         None => false,
         Some(w) => check_witness(cert, w)?,
     };

@@ -12,7 +12,9 @@
 //!
 //! So any z — however inaccurate the solver that produced it — proves a rigorous lower
 //! bound once r is computed exactly. With c = 0 the same number being positive proves the
-//! rows infeasible (a Farkas certificate).
+//! rows infeasible (a Farkas certificate); being zero, with positive weight on a strict row,
+//! it proves the *strict* system infeasible: the closure holds only on a guard's boundary,
+//! which the semantics excludes.
 
 use serde::{Deserialize, Serialize};
 
@@ -111,8 +113,22 @@ impl Program {
         Some(total)
     }
 
-    /// A row that no point of the box satisfies, if there is one: its unit multiplier
-    /// proves infeasibility without a solver.
+    /// Whether multipliers `z` prove that no point satisfies the rows *as the model states
+    /// them* (strict rows strict): the Farkas bound is positive, or it is zero and some
+    /// strict row has positive weight (then any solution would give 0 > 0). Returns the
+    /// exact bound when they do.
+    pub fn proves_empty(&self, z: &[f64]) -> Option<Exact> {
+        let b = self.bound(z, false)?;
+        let strict_weight = self
+            .rows
+            .iter()
+            .zip(z)
+            .any(|(row, &zi)| row.strict && zi > 0.0);
+        (b > Exact::ZERO || (b == Exact::ZERO && strict_weight)).then_some(b)
+    }
+
+    /// A row that no point of the box satisfies (a strict row: not even on its boundary),
+    /// if there is one: its unit multiplier proves emptiness without a solver.
     pub fn infeasible_row(&self) -> Option<usize> {
         self.rows.iter().position(|row| {
             let mut least = Exact::ZERO;
@@ -123,7 +139,7 @@ impl Program {
                     least += a * &var.upper;
                 }
             }
-            least > row.b
+            least > row.b || (row.strict && least == row.b)
         })
     }
 

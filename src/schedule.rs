@@ -31,6 +31,13 @@
 //! k ∈ [E, T) (no wrong assumption seen). The endings add o_T ∈ (0, ρ] with o_T ≤ d_T
 //! (danger) or w_{T−L−1} > V_a (wrong assumption), or o_T ≤ 0 (pass-through).
 //! In-area runs end: once ρ − (P_{T−1−L} − P_{E−L}) ≤ d_{T−1}, no longer E..T is possible.
+//! Entries E ≤ T−2 need no piece each: their rows from step T−2 on are the same (entered by
+//! T−2, clear of danger at T−1, observed speed at T−1 ≤ V_a), and the earlier rows only
+//! constrain speeds that enter the gap at T−2 through their sum. One *early* piece per T
+//! (o_{T−2} ≤ ρ, anchored at T−2) stands for all of them; its worst case is realised by an
+//! obstacle that closes in while outside the area and then waits, observed at speed 0,
+//! while the robot closes the rest. So each brake step has at most three entries: T, T−1,
+//! and "T−2 or earlier".
 //!
 //! Each piece's rows are necessary and sufficient for its schedule (the converse direction
 //! uses the same monotonicity), so the decomposition is exact: the pieces partition the
@@ -90,6 +97,10 @@ pub struct Piece {
     pub ending: Ending,
     /// Stands for this piece and all its shifts by whole steps (T+j, E+j for j ≥ 0).
     pub merged: bool,
+    /// The obstacle entered the area at `entry` *or earlier*: every entry E ≤ T−2 has the
+    /// same rows from step T−2 on, so one piece stands for all of them.
+    #[serde(default)]
+    pub early: bool,
 }
 
 impl Piece {
@@ -199,16 +210,18 @@ impl Decomposition {
         d.first_brake = n_start + l;
         d.last_brake = n_end + 1 + l;
         // Anchor index from which shifted pieces merge: cruising, and boxes overlap.
+        let wa = p.wrong_assumption_active();
+        // Anchors sit at T−1−L, or T−2−L for the entries E = T−1 and E ≤ T−2.
+        let reach = if wa { 2 } else { 1 };
         let merge_at = if p.W > Exact::ZERO {
             let need =
                 usize::try_from(ceil(&(p.v_max.clone() / p.W.clone()))).unwrap_or(usize::MAX);
-            let t = d.cruise_from.max(need).max(1).saturating_add(1 + l);
+            let t = d.cruise_from.max(need).max(1).saturating_add(reach + l);
             Some(t.max(d.first_brake)).filter(|&t| t < d.last_brake)
         } else {
             None
         };
         let last = merge_at.unwrap_or(d.last_brake);
-        let wa = p.wrong_assumption_active();
         if !wa {
             for t in d.first_brake.max(l)..last {
                 d.push_endings(None, t, false, &[Ending::Danger, Ending::PassThrough]);
@@ -218,20 +231,49 @@ impl Decomposition {
             }
         } else {
             let all = [Ending::Danger, Ending::WrongAssumption, Ending::PassThrough];
-            for e in d.first_brake.max(l)..last {
-                for t in e..d.last_brake {
-                    if t > e && !d.in_area_possible(e, t) {
-                        break;
+            let first = d.first_brake.max(l);
+            // Entries of brake step t: at t, at t−1, and at t−2 or earlier. Individual pieces
+            // need their entry at or after the first possible one; a merged piece stands for
+            // all later shifts, so it keeps all of its entries.
+            let recent = |d: &Self, t: usize, merged: bool| -> Vec<usize> {
+                let mut out = vec![t];
+                if (merged || t > first) && t > l && d.in_area_possible(t - 1, t) {
+                    out.push(t - 1);
+                }
+                out
+            };
+            let early_ok = |d: &Self, t: usize, merged: bool| {
+                (merged || t > first + 1) && t > l + 1 && d.in_area_possible(t - 2, t)
+            };
+            // Early pieces merge only once the area-respecting fastest approach can cover
+            // v_max·dt before the anchor: then the reachable gaps of consecutive shifts
+            // overlap (see `fastest_approach`); until then they are listed one by one.
+            let early_merge_at = merge_at.and_then(|t0| {
+                let need = p.v_max.clone() * p.dt.clone();
+                d.first_fast_cover(t0 - 2 - l, &need)
+                    .map(|m| m + 2 + l)
+                    .filter(|&t| t < d.last_brake)
+            });
+            let early_last = early_merge_at.unwrap_or(d.last_brake);
+            for t in first..last.max(early_last) {
+                if t < last {
+                    for e in recent(&d, t, false) {
+                        d.push_entry(e, t, false, false, &all);
                     }
-                    d.push_endings(Some(e), t, false, &all);
+                }
+                if t < early_last && early_ok(&d, t, false) {
+                    d.push_entry(t - 2, t, false, true, &all);
                 }
             }
-            if let Some(e) = merge_at {
-                let mut t = e;
-                while t == e || d.in_area_possible(e, t) {
-                    d.push_endings(Some(e), t, true, &all);
-                    t += 1;
+            if let Some(t) = merge_at {
+                for e in recent(&d, t, true) {
+                    d.push_entry(e, t, true, false, &all);
                 }
+            }
+            if let Some(t) = early_merge_at
+                && early_ok(&d, t, true)
+            {
+                d.push_entry(t - 2, t, true, true, &all);
             }
         }
         d
@@ -267,6 +309,14 @@ impl Decomposition {
         }
     }
 
+    fn push_entry(&mut self, e: usize, t: usize, merged: bool, early: bool, endings: &[Ending]) {
+        let before = self.pieces.len();
+        self.push_endings(Some(e), t, merged, endings);
+        for piece in &mut self.pieces[before..] {
+            piece.early = early;
+        }
+    }
+
     fn push_endings(&mut self, entry: Option<usize>, t: usize, merged: bool, endings: &[Ending]) {
         for &ending in endings {
             if ending != Ending::PassThrough && self.drive(t).speed == Exact::ZERO {
@@ -280,6 +330,7 @@ impl Decomposition {
                 brake: t,
                 ending,
                 merged,
+                early: false,
             });
         }
     }
@@ -306,8 +357,13 @@ impl Decomposition {
     /// The anchor index m of a piece: the first gap index any of its rows mentions.
     pub fn anchor(&self, piece: &Piece) -> usize {
         let l = self.params.L;
-        let first = piece.entry.unwrap_or(piece.brake);
-        if first > l { first - 1 - l } else { 0 }
+        match piece.entry {
+            // An early piece's rows start at o_E ≤ ρ, its own entry's at o_{E−1} > ρ.
+            Some(e) if piece.early => e - l,
+            Some(e) if e > l => e - 1 - l,
+            None if piece.brake > l => piece.brake - 1 - l,
+            _ => 0,
+        }
     }
 
     /// Time and position at which the robot comes to rest after braking at step T's start.
@@ -337,6 +393,9 @@ impl Decomposition {
         let hi = p.g0.clone() - pos(m);
         let lo = if piece.merged {
             zero.clone()
+        } else if piece.early {
+            // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
+            self.fastest_approach(m).1
         } else {
             hi.clone() - p.W.clone() * p.dt.clone() * Exact::from(m)
         };
@@ -396,7 +455,7 @@ impl Decomposition {
                 }
             }
             Some(e) => {
-                if e > l {
+                if e > l && !piece.early {
                     above(
                         &mut rows,
                         format!("o[{}] > rho", e - 1),
@@ -471,6 +530,61 @@ impl Decomposition {
             objective,
             constant,
         }
+    }
+
+    /// The obstacle's fastest approach over steps 0..m for an early piece: speed W while
+    /// that keeps it outside the reaction area, then at most V_a, because every speed whose
+    /// step ends inside the area is observed before the brake step and must not exceed V_a.
+    /// Returns the speeds and the gap at step m, the lowest reachable (as a closure: a step
+    /// may end exactly on ρ). Any gap between it and g0 − P_m is reached by scaling these
+    /// speeds down by a factor λ ≤ 1: the scaled path is farther out at every step, so it is
+    /// inside the area at fewer steps, and there its speed is a fraction of one ≤ V_a.
+    pub fn fastest_approach(&self, m: usize) -> (Vec<Exact>, Exact) {
+        let p = &self.params;
+        let mut gap = p.g0.clone();
+        let mut speeds = Vec::with_capacity(m);
+        for j in 0..m {
+            let next = self.fastest_step(j, gap.clone());
+            let closing = self.position(j + 1) - self.position(j);
+            speeds.push((gap - closing - next.clone()) / p.dt.clone());
+            gap = next;
+        }
+        (speeds, gap)
+    }
+
+    /// The first anchor m ≥ `from` at which the fastest approach (see
+    /// [`Decomposition::fastest_approach`]) has covered at least `need`, if any before the
+    /// robot alone reaches the obstacle's start.
+    fn first_fast_cover(&self, from: usize, need: &Exact) -> Option<usize> {
+        let p = &self.params;
+        let end = self.last_brake;
+        let mut gap = p.g0.clone();
+        for j in 0..end {
+            if j >= from && p.g0.clone() - self.position(j) - gap.clone() >= *need {
+                return Some(j);
+            }
+            gap = self.fastest_step(j, gap);
+        }
+        None
+    }
+
+    /// One step of the fastest approach from `gap` at step j.
+    fn fastest_step(&self, j: usize, gap: Exact) -> Exact {
+        let p = &self.params;
+        let closing = self.position(j + 1) - self.position(j);
+        let at_w = gap.clone() - closing.clone() - p.W.clone() * p.dt.clone();
+        let w = if at_w > p.rho {
+            p.W.clone()
+        } else {
+            let to_edge = (gap.clone() - closing.clone() - p.rho.clone()) / p.dt.clone();
+            let w = if to_edge > p.V_a {
+                to_edge
+            } else {
+                p.V_a.clone()
+            };
+            if w > p.W { p.W.clone() } else { w }
+        };
+        gap - closing - w * p.dt.clone()
     }
 
     /// Where a merged piece's optimum u* = g_m lies: the shift j ≥ 0 whose box contains it
