@@ -77,6 +77,10 @@ enum Command {
     Radius(commands::radius::RadiusArgs),
     /// The largest certified obstacle speed bound for the reaction radius (exit 1 if none).
     MaxSpeed(commands::radius::MaxSpeedArgs),
+    /// Analyse a grid of problems in parallel (JSON Lines + CSV into --out).
+    Sweep(commands::sweep::SweepArgs),
+    /// Regenerate reports (Markdown + SVG) from grids, or merge sweep shards into them.
+    Report(commands::sweep::ReportArgs),
     /// Check live traces against a certificate's premises (exit 0 held, 1 violated).
     Monitor(commands::monitor::MonitorArgs),
     /// Exhaustive breadth-first exploration of the finite model (obstacle speeds from a finite set).
@@ -124,6 +128,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
         ),
         Command::Radius(args) => commands::radius::run(args),
         Command::MaxSpeed(args) => commands::radius::max_speed(args),
+        Command::Sweep(args) => commands::sweep::run(args),
+        Command::Report(args) => commands::sweep::report_cmd(args),
         Command::Monitor(args) => commands::monitor::run(args),
         Command::Explore(args) => commands::explore::run(args),
         Command::ExportUppaal(args) => commands::explore::export_uppaal(args),

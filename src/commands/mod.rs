@@ -3,3 +3,4 @@
 pub mod explore;
 pub mod monitor;
 pub mod radius;
+pub mod sweep;
