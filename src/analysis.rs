@@ -452,7 +452,7 @@ fn speeds_from_point(
                 lambda = near_one;
             }
             fast.iter()
-                .map(|w| f64_at_most(&clamp(lambda.clone() * w.clone(), &Exact::ZERO, &p.W)))
+                .map(|w| quantised(&clamp(lambda.clone() * w.clone(), &Exact::ZERO, &p.W)))
                 .collect()
         } else {
             prefix_speeds(p, m2, total)
@@ -460,7 +460,7 @@ fn speeds_from_point(
     }
     for (j, var) in program.vars.iter().enumerate().skip(1).take(n - m) {
         let w = clamp(exact_float(x[j]), &var.lower, &var.upper);
-        speeds.push(f64_at_most(&w));
+        speeds.push(quantised(&w));
     }
     (shift, speeds)
 }
@@ -474,7 +474,7 @@ fn replay_witness(
 ) -> Witness {
     let params = &dec.params;
     let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
-    speeds.resize(max_steps, f64_at_most(&params.W));
+    speeds.resize(max_steps, quantised(&params.W));
     let run = simulate::replay_exact(params, &speeds, max_steps, !piece.has_objective());
     speeds.truncate(run.records.len());
     Witness {
@@ -507,6 +507,18 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
     }
 }
 
+/// Witness speeds are multiples of this (m/s): exact in `f64`, at most this far below the
+/// speed the program asks for (far inside [`WITNESS_MARGIN`]), and short fractions, so the
+/// exact replay's numbers stay a word or two long instead of growing with 53-bit floats.
+pub const SPEED_QUANTUM: f64 = 1.0 / (1u64 << 30) as f64;
+
+/// The largest multiple of [`SPEED_QUANTUM`] not above `x` (x ≥ 0).
+fn quantised(x: &Exact) -> f64 {
+    let scale = Exact::from(1u64 << 30);
+    let steps = (x.clone() * scale.clone()).floor();
+    f64_at_most(&(Exact::from(steps) / scale))
+}
+
 /// Obstacle speeds for the first `m` periods that cover `distance` in total: a constant
 /// speed rounded down to a multiple of 2⁻³⁰ m/s, with the remainder in the last period.
 /// Short dyadic speeds keep the exact replay's numbers small (a 53-bit float speed held for
@@ -521,13 +533,13 @@ fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Vec<f64> {
     let each = Exact::from((total.clone() * scale.clone() / Exact::from(m)).floor()) / scale;
     let last = total - each.clone() * Exact::from(m - 1);
     if last <= p.W {
-        let mut speeds = vec![f64_at_most(&each); m - 1];
-        speeds.push(f64_at_most(&last));
+        let mut speeds = vec![quantised(&each); m - 1];
+        speeds.push(quantised(&last));
         speeds
     } else {
         // Only when the total is within m·2⁻³⁰ of m·W: spread it evenly.
         let w = (each * Exact::from(m - 1) + last) / Exact::from(m);
-        vec![f64_at_most(&clamp(w, &Exact::ZERO, &p.W)); m]
+        vec![quantised(&clamp(w, &Exact::ZERO, &p.W)); m]
     }
 }
 

@@ -493,6 +493,29 @@ fn heat_map(results: &[CellResult], assumed: Option<f64>) -> String {
     s
 }
 
+/// Round tick values from 0 to `max`: steps of 1, 2 or 5 times a power of ten, at most 8.
+fn ticks(max: f64) -> Vec<f64> {
+    if max.is_nan() || max <= 0.0 {
+        return vec![0.0];
+    }
+    let raw = max / 8.0;
+    let p = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * p)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * p);
+    (0..)
+        .map(|i| f64::from(i) * step)
+        .take_while(|v| *v <= max * (1.0 + 1e-9))
+        .collect()
+}
+
+fn tick_label(v: f64) -> String {
+    let s = format!("{v:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// The safe-radius curve with the grid's cells overlaid.
 fn curve_plot(results: &[CellResult], curve: &[CurvePoint], assumed: Option<f64>) -> String {
     let (width, height, left, right, top, bottom) = (640.0, 420.0, 70.0, 30.0, 40.0, 60.0);
@@ -522,22 +545,22 @@ fn curve_plot(results: &[CellResult], curve: &[CurvePoint], assumed: Option<f64>
         height - bottom,
         width - right
     );
-    for k in 0..=5 {
-        let w = wmax * f64::from(k) / 5.0;
-        let r = rmax * f64::from(k) / 5.0;
+    for w in ticks(wmax) {
         let _ = writeln!(
             s,
-            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{:.2}</text>",
+            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
             sx(w),
             height - bottom + 18.0,
-            w
+            tick_label(w)
         );
+    }
+    for r in ticks(rmax) {
         let _ = writeln!(
             s,
-            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{:.2}</text>",
+            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>",
             left - 6.0,
             sy(r) + 4.0,
-            r
+            tick_label(r)
         );
         let _ = writeln!(
             s,

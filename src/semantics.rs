@@ -81,7 +81,6 @@ impl<N: Scalar> Motion<N> {
 /// v²/(2b), not v·dt). The mode in `state` is the one chosen at the period's start.
 pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N> {
     let dt = p.dt.clone();
-    let half = N::int(1) / N::int(2);
     let x = state.position.clone();
     let v = state.speed.clone();
     match state.mode {
@@ -94,6 +93,7 @@ pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N
             moving_for: dt,
         },
         Mode::Accelerate => {
+            let half = N::int(1) / N::int(2);
             let reach = (p.v_max.clone() - v.clone()) / p.a.clone();
             if reach <= dt {
                 // Reaches v_max inside the period, then cruises.
@@ -141,6 +141,7 @@ pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N
                     moving_for: N::zero(),
                 };
             }
+            let half = N::int(1) / N::int(2);
             let stop = v.clone() / p.b.clone();
             if stop <= dt {
                 let position = x + half * v.clone() * stop.clone();

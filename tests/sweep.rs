@@ -1,0 +1,242 @@
+//! Sweeps and reports: cells equal single analyses, shards merge to the whole sweep, output
+//! round-trips, and `safereach report` regenerates exactly what is committed in reports/.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use safereach::analysis::{Verdict, analyse};
+use safereach::num::f64_at_most;
+use safereach::sweep::{self, Grid, Shard};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn seed_grid() -> Grid {
+    Grid::load(&root().join("problems/seed-grid.toml")).expect("the seed grid loads")
+}
+
+#[test]
+fn cells_are_the_cartesian_product_last_axis_fastest() {
+    let grid = seed_grid();
+    assert_eq!(grid.len(), 16);
+    let values = grid.cell_values(6);
+    let shown: Vec<String> = values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    assert_eq!(
+        shown,
+        [
+            "controller.assumed_obstacle_speed=0.2",
+            "environment.obstacle_speed=0.2",
+            "controller.reaction_radius=1.4"
+        ]
+    );
+}
+
+#[test]
+fn every_cell_equals_a_single_analysis() {
+    let grid = seed_grid();
+    let results = grid.run(Shard::ALL, 0, 0, || {}).expect("sweeps");
+    assert_eq!(results.len(), grid.len());
+    for r in &results {
+        let problem = grid.problem(r.cell).expect("cell problem");
+        let a = analyse(&problem).expect("analyses");
+        assert_eq!(r.verdict, a.verdict, "cell {}", r.cell);
+        assert_eq!(
+            r.lower_bound,
+            a.lower_bound.as_ref().map(f64_at_most),
+            "cell {}",
+            r.cell
+        );
+        assert_eq!(r.never_stops, a.never_stops, "cell {}", r.cell);
+        match (r.min_separation, a.min_separation) {
+            (Some(x), Some(y)) => assert!((x - y).abs() <= 1e-6, "cell {}: {x} vs {y}", r.cell),
+            (x, y) => assert_eq!(x, y, "cell {}", r.cell),
+        }
+    }
+}
+
+#[test]
+fn shards_merged_equal_the_whole_sweep() {
+    let grid = seed_grid();
+    let whole = grid.run(Shard::ALL, 20, 5, || {}).expect("sweeps");
+    let parts: Vec<_> = (0..3)
+        .map(|i| {
+            grid.run(Shard { index: i, count: 3 }, 20, 5, || {})
+                .expect("shard sweeps")
+        })
+        .collect();
+    assert!(parts.iter().all(|p| !p.is_empty() && p.len() < whole.len()));
+    let merged = sweep::merge(&grid, parts.clone()).expect("merges");
+    assert_eq!(merged, whole);
+    // A missing shard or a duplicated one is refused.
+    assert!(sweep::merge(&grid, parts[..2].to_vec()).is_err());
+    let mut twice = parts.clone();
+    twice.push(parts[0].clone());
+    assert!(sweep::merge(&grid, twice).is_err());
+}
+
+#[test]
+fn jsonl_round_trips_and_csv_has_one_row_per_cell() {
+    let grid = seed_grid();
+    let results = grid.run(Shard::ALL, 10, 1, || {}).expect("sweeps");
+    let keys: Vec<String> = grid.axes.iter().map(|(k, _)| k.clone()).collect();
+    let text = sweep::to_jsonl(&results);
+    assert_eq!(
+        sweep::from_jsonl(&text, &keys, "test").expect("reads back"),
+        results
+    );
+    let first: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    assert_eq!(first["environment.obstacle_speed"], 0.15);
+    assert!(first["verdict"].is_string());
+    let csv = sweep::to_csv(&results, &keys);
+    assert_eq!(csv.lines().count(), results.len() + 1);
+    assert!(csv.starts_with("cell,controller.assumed_obstacle_speed,environment.obstacle_speed,controller.reaction_radius,verdict"));
+}
+
+#[test]
+fn simulation_never_contradicts_a_certified_cell() {
+    let grid = seed_grid();
+    let results = grid.run(Shard::ALL, 200, 11, || {}).expect("sweeps");
+    for r in results.iter().filter(|r| r.verdict == Verdict::Certified) {
+        assert_eq!(r.collisions, Some(0), "cell {}", r.cell);
+        assert!(r.simulated_min_separation.unwrap() >= r.lower_bound.unwrap() - 1e-9);
+    }
+}
+
+#[test]
+fn bad_grids_name_the_file_and_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| -> PathBuf {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    std::fs::copy(
+        root().join("problems/seed.toml"),
+        dir.path().join("seed.toml"),
+    )
+    .unwrap();
+    let cases = [
+        (
+            "unknown-key.toml",
+            "base = \"seed.toml\"\n[axes]\n\"robot.wheels\" = [1.0]\n",
+            "robot.wheels",
+        ),
+        (
+            "not-array.toml",
+            "base = \"seed.toml\"\n[axes]\n\"robot.braking\" = 0.5\n",
+            "array",
+        ),
+        (
+            "bad-value.toml",
+            "base = \"seed.toml\"\n[axes]\n\"robot.braking\" = [0.5, -1.0]\n",
+            "must be > 0",
+        ),
+        (
+            "no-base.toml",
+            "base = \"missing.toml\"\n[axes]\n\"robot.braking\" = [0.5]\n",
+            "missing.toml",
+        ),
+        (
+            "no-axes.toml",
+            "base = \"seed.toml\"\n[axes]\n",
+            "names no key",
+        ),
+    ];
+    for (name, text, expect) in cases {
+        let path = write(name, text);
+        let err = Grid::load(&path).expect_err(name).to_string();
+        assert!(err.contains(expect), "{name}: {err}");
+        assert!(err.contains(name) || err.contains("--set"), "{name}: {err}");
+    }
+}
+
+fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// `safereach report` regenerates reports/ byte for byte: the committed report is what the
+/// code says (regenerate with `cargo run --release -- report` after changing either).
+#[test]
+fn committed_reports_are_what_report_regenerates() {
+    let dir = tempfile::tempdir().unwrap();
+    Command::cargo_bin("safereach")
+        .unwrap()
+        .current_dir(root())
+        .args(["report", "--out"])
+        .arg(dir.path())
+        .assert()
+        .success();
+    let fresh = files(dir.path());
+    let committed = files(&root().join("reports"));
+    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+    assert_eq!(
+        names(&fresh),
+        names(&committed),
+        "reports/ holds other files than report writes"
+    );
+    for ((name, a), (_, b)) in fresh.iter().zip(&committed) {
+        assert!(
+            a == b,
+            "reports/{name} differs from what `safereach report` writes now: regenerate it"
+        );
+    }
+}
+
+#[test]
+fn sweep_cli_writes_shards_that_report_merges() {
+    let dir = tempfile::tempdir().unwrap();
+    for i in 0..2 {
+        Command::cargo_bin("safereach")
+            .unwrap()
+            .current_dir(root())
+            .args([
+                "sweep",
+                "problems/seed-grid.toml",
+                "--runs",
+                "10",
+                "--shard",
+                &format!("{i}/2"),
+                "--out",
+            ])
+            .arg(dir.path().join("shards"))
+            .assert()
+            .success();
+    }
+    let out = dir.path().join("report");
+    Command::cargo_bin("safereach")
+        .unwrap()
+        .current_dir(root())
+        .args(["report", "problems/seed-grid.toml", "--from"])
+        .arg(dir.path().join("shards"))
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let md = std::fs::read_to_string(out.join("seed-grid.md")).unwrap();
+    assert!(md.contains("16 cells"), "{md}");
+    assert!(md.contains("(a) Too small a reaction radius collides even when the assumption holds"));
+    // Merging half the shards fails with a message naming what is missing.
+    std::fs::remove_file(dir.path().join("shards/seed-grid.shard-1-of-2.jsonl")).unwrap();
+    Command::cargo_bin("safereach")
+        .unwrap()
+        .current_dir(root())
+        .args(["report", "problems/seed-grid.toml", "--from"])
+        .arg(dir.path().join("shards"))
+        .arg("--out")
+        .arg(dir.path().join("report2"))
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("missing"));
+}
