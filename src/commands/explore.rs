@@ -1,23 +1,341 @@
-//! `safereach explore` and `safereach export-uppaal`: placeholders, to be written (issue 5).
+//! `safereach explore` and `safereach export-uppaal`: the exhaustive explorer over a finite
+//! speed set, and the same finite model as UPPAAL timed automata.
+//!
+//! Exit codes of `explore`: 0 safe, 1 collision, 3 inconclusive (state budget reached),
+//! 2 bad input or an internal error. `export-uppaal`: 0 written, 2 bad input.
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
+use serde_json::{Value, json};
+
+use safereach::explore::{self, Exploration, ExploreVerdict, Options, SpeedSet, show_exact};
+use safereach::model::Problem;
+use safereach::num::Exact;
+use safereach::output::{trace_csv, write_atomic};
+use safereach::semantics::Mode;
+use safereach::simulate::TraceRow;
+use safereach::uppaal::{self, GridExploration};
 
 /// Arguments of `safereach explore`.
 #[derive(clap::Args)]
-pub struct ExploreArgs {}
+pub struct ExploreArgs {
+    /// Problem file (TOML).
+    problem: PathBuf,
+    /// Override a key, e.g. `environment.obstacle_speed=0.25` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Obstacle speeds per period: a count N (N evenly spaced speeds 0, W/(N-1), ..., W)
+    /// or a comma-separated list in m/s (`0,0.05,0.15`; fractions like `3/80` too).
+    #[arg(long, value_name = "N|LIST", default_value = "5")]
+    speeds: String,
+    /// Stop with `inconclusive` after this many distinct states (bounds memory).
+    #[arg(long, value_name = "N", default_value_t = explore::DEFAULT_MAX_STATES)]
+    max_states: usize,
+    /// Print JSON (verdict, states, min_separation, path, ...).
+    #[arg(long)]
+    json: bool,
+    /// Write the counterexample (or, when safe, the closest approach) as CSV in the
+    /// simulator's trace format.
+    #[arg(long, value_name = "FILE")]
+    trace: Option<PathBuf>,
+    /// Explore the exported UPPAAL network on its integer grid instead (what UPPAAL would
+    /// answer for `export-uppaal` with the same --speeds).
+    #[arg(long)]
+    grid: bool,
+}
 
 /// Arguments of `safereach export-uppaal`.
 #[derive(clap::Args)]
-pub struct ExportUppaalArgs {}
+pub struct ExportUppaalArgs {
+    /// Problem file (TOML).
+    problem: PathBuf,
+    /// Override a key (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Obstacle speeds, as for `explore` (the obstacle automaton selects among them).
+    #[arg(long, value_name = "N|LIST", default_value = "5")]
+    speeds: String,
+    /// Model file to write (UPPAAL XML); the query goes beside it with extension `.q`.
+    /// Default: the problem file's name with extension `.xml`, in the current directory.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+}
+
+fn load(problem: &Path, sets: &[String]) -> Result<Problem> {
+    Ok(Problem::load_with_overrides(problem, sets)?)
+}
 
 /// Runs `safereach explore`.
-pub fn run(_args: ExploreArgs) -> Result<ExitCode> {
-    anyhow::bail!("explore is not implemented yet")
+pub fn run(args: ExploreArgs) -> Result<ExitCode> {
+    let problem = load(&args.problem, &args.sets)?;
+    let w: Exact = problem.params::<Exact>().W;
+    let speeds = SpeedSet::parse(&args.speeds, &w)?;
+    let options = Options {
+        max_states: args.max_states,
+    };
+    if args.grid {
+        return run_grid(&problem, speeds, &options, &args);
+    }
+    let result = explore::explore(&problem, speeds, &options)?;
+    let witness = result.counterexample.as_ref().or(result.closest.as_ref());
+    if let (Some(path), Some(w)) = (&args.trace, witness) {
+        write_atomic(path, trace_csv(&w.trace, "0").as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&to_json(&problem, &result))?
+        );
+    } else {
+        print!("{}", summary(&problem, &result, args.trace.as_deref()));
+    }
+    Ok(exit_code(result.verdict))
+}
+
+fn exit_code(verdict: ExploreVerdict) -> ExitCode {
+    ExitCode::from(match verdict {
+        ExploreVerdict::Safe => 0,
+        ExploreVerdict::Collision => 1,
+        ExploreVerdict::Inconclusive => 3,
+    })
+}
+
+fn path_json(path: &explore::Path) -> Value {
+    json!({
+        "periods": path.periods(),
+        "obstacle_speeds": path.speeds.iter().map(|s| s.to_f64().value()).collect::<Vec<_>>(),
+        "obstacle_speeds_exact": path.speeds.iter().map(show_exact).collect::<Vec<_>>(),
+        "collides": path.run.outcome.collided,
+        "steps": path.trace,
+    })
+}
+
+fn message(result: &Exploration) -> Option<String> {
+    (!result.complete).then(|| {
+        format!(
+            "{}state budget reached ({} states); raise --max-states or use fewer --speeds",
+            if result.verdict == ExploreVerdict::Inconclusive {
+                "inconclusive: "
+            } else {
+                "incomplete: "
+            },
+            result.states
+        )
+    })
+}
+
+fn to_json(problem: &Problem, result: &Exploration) -> Value {
+    json!({
+        "problem": problem.name,
+        "verdict": result.verdict.as_str(),
+        "message": message(result),
+        "complete": result.complete,
+        "states": result.states,
+        "transitions": result.transitions,
+        "depth": result.depth,
+        "speeds": result.speeds.speeds().iter().map(|s| s.to_f64().value()).collect::<Vec<_>>(),
+        "speeds_exact": result.speeds.speeds().iter().map(show_exact).collect::<Vec<_>>(),
+        "property": "always: never moving with gap <= clearance",
+        "min_separation": if result.never_stops { None } else { result.min_separation.as_ref().map(|s| s.to_f64().value()) },
+        "min_separation_exact": if result.never_stops { None } else { result.min_separation.as_ref().map(show_exact) },
+        "never_stops": result.never_stops,
+        "clearance": problem.robot.clearance,
+        "path": result.counterexample.as_ref().map(path_json),
+        "closest": result.closest.as_ref().map(path_json),
+    })
+}
+
+/// The obstacle's speeds along a path, run-length encoded: `0.15 x12, 0 x3`.
+fn speeds_rle(speeds: &[Exact]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < speeds.len() {
+        let mut j = i;
+        while j < speeds.len() && speeds[j] == speeds[i] {
+            j += 1;
+        }
+        parts.push(format!("{} x{}", show_exact(&speeds[i]), j - i));
+        i = j;
+    }
+    parts.join(", ")
+}
+
+fn brake_time(rows: &[TraceRow]) -> Option<f64> {
+    rows.iter()
+        .find(|r| r.robot_mode == Mode::Brake)
+        .map(|r| r.t)
+}
+
+fn summary(problem: &Problem, result: &Exploration, trace: Option<&Path>) -> String {
+    let mut s = format!("{}: {}\n", problem.name, result.verdict.as_str());
+    if let Some(m) = message(result) {
+        s += &format!("  {m}\n");
+    }
+    s += &format!(
+        "  obstacle speeds {} m/s ({} actions per state, fixed order)\n",
+        result.speeds,
+        result.speeds.len()
+    );
+    s += &format!(
+        "  states {} ({} transitions, longest path {} periods){}\n",
+        result.states,
+        result.transitions,
+        result.depth,
+        if result.complete { "" } else { " - partial" }
+    );
+    let over = if result.complete {
+        "all"
+    } else {
+        "the explored"
+    };
+    let sep = if result.never_stops {
+        "-inf (some behaviour never brakes)".to_string()
+    } else {
+        match &result.min_separation {
+            Some(x) => format!("{:.9} m", x.to_f64().value()),
+            None => "none (no behaviour moves and comes to rest)".into(),
+        }
+    };
+    s += &format!(
+        "  minimum separation over {over} behaviours: {sep} (clearance {} m)\n",
+        problem.robot.clearance
+    );
+    if let Some(c) = &result.counterexample {
+        let last = c.trace.last();
+        s += &format!(
+            "  counterexample (shortest path, {} periods){}{}\n",
+            c.periods(),
+            brake_time(&c.trace)
+                .map(|t| format!(": robot brakes at t = {t:.3} s"))
+                .unwrap_or_else(|| ": robot never brakes".into()),
+            last.map(|r| format!(", collides by t = {:.3} s (gap {:.6} m)", r.t, r.gap))
+                .unwrap_or_default()
+        );
+        s += &format!(
+            "    obstacle speeds per period: {}\n",
+            speeds_rle(&c.speeds)
+        );
+    } else if let Some(c) = &result.closest {
+        s += &format!(
+            "  closest approach ({} periods): obstacle speeds per period: {}\n",
+            c.periods(),
+            speeds_rle(&c.speeds)
+        );
+    }
+    if let Some(path) = trace {
+        let what = if result.counterexample.is_some() {
+            "counterexample"
+        } else if result.closest.is_some() {
+            "closest approach"
+        } else {
+            "nothing (no path to write)"
+        };
+        s += &format!("  trace: {what} written to {}\n", path.display());
+    }
+    s
+}
+
+fn run_grid(
+    problem: &Problem,
+    speeds: SpeedSet,
+    options: &Options,
+    args: &ExploreArgs,
+) -> Result<ExitCode> {
+    if args.trace.is_some() {
+        anyhow::bail!(
+            "--trace is not available with --grid (the grid explorer reports states, not traces)"
+        );
+    }
+    let model = uppaal::export(problem, &speeds)?;
+    let result: GridExploration = uppaal::explore_grid(&model, options)?;
+    let sep = result.min_separation.as_ref().map(|g| g.to_f64().value());
+    if args.json {
+        let v = json!({
+            "problem": problem.name,
+            "grid": true,
+            "verdict": result.verdict.as_str(),
+            "complete": result.complete,
+            "states": result.states,
+            "min_separation": sep,
+            "min_separation_grid": result.min_separation_grid,
+            "scale_per_metre": model.grid.scale.to_string(),
+            "collision_period": result.collision_period,
+            "path": Value::Null,
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        println!(
+            "{}: {} (UPPAAL network on the integer grid, 1 unit = 1/{} m, 1 time unit = {} s)",
+            problem.name,
+            result.verdict.as_str(),
+            model.grid.scale,
+            problem.robot.control_period
+        );
+        println!(
+            "  network states {}{}",
+            result.states,
+            if result.complete {
+                ""
+            } else {
+                " - state budget reached"
+            }
+        );
+        if let Some(k) = result.collision_period {
+            println!("  first collision in period {k} (shortest path)");
+        }
+        match (result.min_separation_grid, sep) {
+            (Some(g), Some(m)) if result.verdict == ExploreVerdict::Safe => {
+                println!("  minimum separation at rest: {g} units = {m:.9} m")
+            }
+            _ => {}
+        }
+    }
+    Ok(exit_code(result.verdict))
 }
 
 /// Runs `safereach export-uppaal`.
-pub fn export_uppaal(_args: ExportUppaalArgs) -> Result<ExitCode> {
-    anyhow::bail!("export-uppaal is not implemented yet")
+pub fn export_uppaal(args: ExportUppaalArgs) -> Result<ExitCode> {
+    let problem = load(&args.problem, &args.sets)?;
+    let w: Exact = problem.params::<Exact>().W;
+    let speeds = SpeedSet::parse(&args.speeds, &w)?;
+    let model = uppaal::export(&problem, &speeds)?;
+    let out = match args.out {
+        Some(p) => p,
+        None => {
+            let stem = args
+                .problem
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "model".into());
+            PathBuf::from(format!("{stem}.xml"))
+        }
+    };
+    let query = out.with_extension("q");
+    if query == out {
+        anyhow::bail!(
+            "--out {}: the model file must not end in .q (the query file is written beside it)",
+            out.display()
+        );
+    }
+    write_atomic(&out, model.xml.as_bytes())
+        .with_context(|| format!("writing {}", out.display()))?;
+    write_atomic(&query, model.query.as_bytes())
+        .with_context(|| format!("writing {}", query.display()))?;
+    println!(
+        "{}: wrote {} and {}\n  integer grid: 1 distance unit = 1/{} m, 1 time unit = one control period ({} s), \
+         speeds in distance units per period; exact for this problem (no rounding)\n  \
+         obstacle speeds {} m/s; reference answer: safereach explore {} --speeds {}",
+        problem.name,
+        out.display(),
+        query.display(),
+        model.grid.scale,
+        problem.robot.control_period,
+        speeds,
+        args.problem.display(),
+        args.speeds
+    );
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,0 +1,623 @@
+//! The UPPAAL export (`safereach::uppaal`, `safereach export-uppaal`).
+//!
+//! UPPAAL is not available here, so the export is checked three ways:
+//! - structure: the XML is well formed and has the shape UPPAAL reads (an `nta` root with a
+//!   `declaration`, `template`s with `name`, `location`s, `init` and `transition`s whose
+//!   references resolve, a `system`), the seed's location names, the guard functions, the
+//!   query file;
+//! - numbers: the constants in the file, divided by the stated scale, are the problem's exact
+//!   numbers (the grid is exact, nothing is rounded);
+//! - behaviour: the network the XML is printed from, run by the interpreter
+//!   ([`safereach::uppaal::explore_grid`]), answers what the explorer answers on the same
+//!   finite model — verdict, shortest collision period and minimum separation — over every
+//!   danger rule, latencies 0–3 and W below and above V_a. Broken variants of the network are
+//!   caught by the interpreter (it has teeth).
+
+use std::collections::{BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use roxmltree::{Document, Node};
+use safereach::explore::{self, ExploreVerdict, Options, SpeedSet};
+use safereach::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::num::Exact;
+use safereach::uppaal::{self, Decl, UppaalError, UppaalModel};
+
+fn problem_file(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("problems")
+        .join(name)
+}
+
+fn seed() -> Problem {
+    Problem::load(&problem_file("seed.toml")).unwrap()
+}
+
+fn export(p: &Problem, speeds: &str) -> UppaalModel {
+    let set = SpeedSet::parse(speeds, &p.params::<Exact>().W).unwrap();
+    uppaal::export(p, &set).expect("the problem exports")
+}
+
+#[allow(clippy::too_many_arguments)]
+fn small(rule: DangerRule, latency: u32, w: f64, wab: bool, rho: f64, g0: f64) -> Problem {
+    let p = Problem {
+        name: "uppaal-test".into(),
+        robot: Robot {
+            max_speed: 0.4,
+            acceleration: 0.4,
+            braking: 0.5,
+            control_period: 0.2,
+            latency,
+            clearance: 0.0,
+        },
+        controller: Controller {
+            assumed_obstacle_speed: 0.2,
+            reaction_radius: rho,
+            danger_rule: rule,
+            buffer: 0.05,
+            wrong_assumption_brake: wab,
+        },
+        environment: Environment {
+            obstacle_speed: w,
+            initial_gap: g0,
+        },
+    };
+    p.validate("uppaal test").unwrap();
+    p
+}
+
+// ---------------------------------------------------------------------------------------------
+// Structure
+// ---------------------------------------------------------------------------------------------
+
+fn elements<'a, 'i>(node: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
+    node.children().filter(|n| n.is_element())
+}
+
+fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Node<'a, 'i> {
+    elements(node)
+        .find(|n| n.has_tag_name(tag))
+        .unwrap_or_else(|| panic!("<{}> has no <{tag}>", node.tag_name().name()))
+}
+
+/// Checks the shape UPPAAL reads; returns each template's location names.
+fn check_structure(xml: &str) -> HashMap<String, Vec<String>> {
+    let doc = Document::parse_with_options(
+        xml,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .expect("the XML is well formed");
+    let nta = doc.root_element();
+    assert_eq!(nta.tag_name().name(), "nta");
+    let tags: Vec<&str> = elements(nta).map(|n| n.tag_name().name()).collect();
+    assert_eq!(
+        tags,
+        ["declaration", "template", "template", "system", "queries"],
+        "UPPAAL's element order"
+    );
+    let mut ids = BTreeSet::new();
+    let mut out = HashMap::new();
+    for t in elements(nta).filter(|n| n.has_tag_name("template")) {
+        let kids: Vec<&str> = elements(t).map(|n| n.tag_name().name()).collect();
+        assert_eq!(kids[0], "name", "a template starts with its name");
+        // name, declaration?, location*, init, transition*
+        let first_transition = kids.iter().position(|k| *k == "transition").unwrap();
+        let init_at = kids.iter().position(|k| *k == "init").unwrap();
+        assert!(
+            kids[..init_at]
+                .iter()
+                .skip(1)
+                .all(|k| *k == "location" || *k == "declaration")
+        );
+        assert_eq!(first_transition, init_at + 1);
+        assert!(kids[init_at + 1..].iter().all(|k| *k == "transition"));
+        let name = child(t, "name").text().unwrap().to_string();
+        let mut local = BTreeSet::new();
+        let mut names = Vec::new();
+        for l in elements(t).filter(|n| n.has_tag_name("location")) {
+            let id = l.attribute("id").expect("a location has an id").to_string();
+            assert!(ids.insert(id.clone()), "location id {id} is unique");
+            local.insert(id);
+            names.push(child(l, "name").text().unwrap().to_string());
+            for label in elements(l).filter(|n| n.has_tag_name("label")) {
+                assert_eq!(label.attribute("kind"), Some("invariant"));
+            }
+        }
+        let init = child(t, "init").attribute("ref").unwrap();
+        assert!(
+            local.contains(init),
+            "{name}: init refers to one of its locations"
+        );
+        for tr in elements(t).filter(|n| n.has_tag_name("transition")) {
+            let s = child(tr, "source").attribute("ref").unwrap();
+            let d = child(tr, "target").attribute("ref").unwrap();
+            assert!(local.contains(s) && local.contains(d), "{name}: {s} -> {d}");
+            for label in elements(tr).filter(|n| n.has_tag_name("label")) {
+                let kind = label.attribute("kind").unwrap();
+                assert!(
+                    ["select", "guard", "synchronisation", "assignment"].contains(&kind),
+                    "{kind}"
+                );
+                assert!(!label.text().unwrap_or("").trim().is_empty());
+            }
+        }
+        out.insert(name, names);
+    }
+    let system = child(nta, "system").text().unwrap();
+    assert!(system.contains("system Robot, Obstacle;"), "{system}");
+    let formula = child(child(child(nta, "queries"), "query"), "formula");
+    assert!(formula.text().unwrap().starts_with("A[] "));
+    out
+}
+
+#[test]
+fn xml_is_well_formed_with_the_seeds_automata() {
+    let m = export(&seed(), "5");
+    let locations = check_structure(&m.xml);
+    assert_eq!(
+        locations["Robot"],
+        ["Idle", "Accelerate", "Drive", "Brake", "Stop"]
+    );
+    assert_eq!(locations["Obstacle"], ["Init", "Idle", "Move"]);
+    assert!(
+        m.xml
+            .starts_with("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!DOCTYPE nta")
+    );
+}
+
+#[test]
+fn every_rule_and_latency_exports_a_well_formed_model() {
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..=3 {
+            for wab in [true, false] {
+                let p = small(rule, latency, 0.3, wab, 1.0, 2.0);
+                check_structure(&export(&p, "3").xml);
+            }
+        }
+    }
+}
+
+/// UPPAAL's reserved keywords (docs.uppaal.org, "Reserved Keywords"), including those
+/// reserved for future use.
+const RESERVED: &[&str] = &[
+    "chan",
+    "clock",
+    "double",
+    "bool",
+    "int",
+    "commit",
+    "const",
+    "urgent",
+    "broadcast",
+    "init",
+    "process",
+    "state",
+    "invariant",
+    "location",
+    "guard",
+    "sync",
+    "assign",
+    "system",
+    "trans",
+    "deadlock",
+    "and",
+    "or",
+    "not",
+    "imply",
+    "true",
+    "false",
+    "for",
+    "forall",
+    "exists",
+    "while",
+    "do",
+    "if",
+    "else",
+    "return",
+    "typedef",
+    "struct",
+    "rate",
+    "before_update",
+    "after_update",
+    "meta",
+    "priority",
+    "progress",
+    "scalar",
+    "select",
+    "void",
+    "default",
+    "string",
+    "minE",
+    "maxE",
+    "Pr",
+    "switch",
+    "case",
+    "continue",
+    "break",
+    "enum",
+];
+
+#[test]
+fn no_identifier_is_a_reserved_keyword() {
+    let m = export(&seed(), "5");
+    let mut names: Vec<&str> = Vec::new();
+    for d in &m.network.declarations {
+        match d {
+            Decl::Const { name, .. } | Decl::ConstArray { name, .. } | Decl::Var { name, .. } => {
+                names.push(name)
+            }
+            Decl::Chans(c) => names.extend(c.iter().copied()),
+            Decl::Func(f) => {
+                names.push(f.name);
+                names.extend(f.params.iter().copied());
+                names.extend(f.locals.iter().copied());
+            }
+            _ => {}
+        }
+    }
+    for t in &m.network.templates {
+        names.push(t.name);
+        names.extend(t.locations.iter().map(|l| l.name));
+        names.extend(t.edges.iter().filter_map(|e| e.select.map(|s| s.0)));
+    }
+    assert!(names.len() > 40);
+    for n in names {
+        assert!(!RESERVED.contains(&n), "{n} is reserved in UPPAAL");
+        assert!(
+            n.chars().next().unwrap().is_ascii_alphabetic()
+                && n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
+            "{n}"
+        );
+    }
+}
+
+fn declaration(m: &UppaalModel) -> String {
+    uppaal::declarations_text(&m.network)
+}
+
+#[test]
+fn declarations_write_out_the_guards_in_uppaals_language() {
+    let m = export(&seed(), "5");
+    let d = declaration(&m);
+    for f in [
+        "bool collisionDanger() {",
+        "bool wrongAssumption() {",
+        "bool inArea() {",
+        "void endPeriod(int dx, int vEnd) {",
+    ] {
+        assert!(d.contains(f), "missing {f}");
+    }
+    // The paper's rule, multiplied out on the grid.
+    assert!(d.contains("return inArea() && (observedGap() - BUFFER) * BRK <= v * v + VA * v;"));
+    assert!(d.contains("return WRONG_ASSUMPTION_BRAKE && inArea() && observedFast();"));
+    let kinematic = Problem {
+        controller: Controller {
+            danger_rule: DangerRule::Kinematic,
+            ..seed().controller
+        },
+        ..seed()
+    };
+    assert!(
+        declaration(&export(&kinematic, "5")).contains(
+            "return inArea() && 2 * (observedGap() - BUFFER) * BRK <= v * v + 2 * VA * v;"
+        )
+    );
+    let area = Problem {
+        controller: Controller {
+            danger_rule: DangerRule::Area,
+            ..seed().controller
+        },
+        ..seed()
+    };
+    assert!(
+        declaration(&export(&area, "5"))
+            .contains("bool collisionDanger() {\n    return inArea();\n}")
+    );
+    // Balanced braces and parentheses; every statement line ends in ; { or }.
+    assert_eq!(d.matches('{').count(), d.matches('}').count());
+    assert_eq!(d.matches('(').count(), d.matches(')').count());
+    for line in d.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with("//") {
+            continue;
+        }
+        let code = line.split("  //").next().unwrap().trim_end();
+        assert!(
+            code.ends_with(';') || code.ends_with('{') || code.ends_with('}'),
+            "{line}"
+        );
+    }
+}
+
+/// `const int NAME = value;` from the declarations.
+fn constants(m: &UppaalModel) -> HashMap<String, i64> {
+    let mut out = HashMap::new();
+    for line in declaration(m).lines() {
+        if let Some(rest) = line.strip_prefix("const int ")
+            && let Some((name, value)) = rest.split_once(" = ")
+            && !name.contains('[')
+        {
+            let value = value.split(';').next().unwrap();
+            out.insert(name.to_string(), value.parse().unwrap());
+        }
+    }
+    out
+}
+
+#[test]
+fn the_scaling_is_stated_and_exact() {
+    let p = seed();
+    let m = export(&p, "5");
+    let d = Exact::from(m.grid.scale.clone());
+    assert_eq!(m.grid.scale, 4000u32.into(), "the seed's grid: 1/4000 m");
+    assert!(
+        m.xml.contains("1 unit = 1/4000 m"),
+        "the scale is stated in an XML comment"
+    );
+    assert!(
+        m.xml
+            .contains("1 model time unit = 1 control period = 0.1 s")
+    );
+    assert!(m.xml.contains("nothing is rounded"));
+    let c = constants(&m);
+    let x = p.params::<Exact>();
+    let on = |k: &str| Exact::from(c[k]) / d.clone();
+    assert_eq!(on("G0"), x.g0);
+    assert_eq!(on("VMAX"), x.v_max.clone() * x.dt.clone());
+    assert_eq!(on("ACC"), x.a.clone() * x.dt.clone() * x.dt.clone());
+    assert_eq!(on("BRK"), x.b.clone() * x.dt.clone() * x.dt.clone());
+    assert_eq!(on("VA"), x.V_a.clone() * x.dt.clone());
+    assert_eq!(on("BUFFER"), x.buffer);
+    assert_eq!(on("CLEARANCE"), x.clearance);
+    assert_eq!(c["L"], 1);
+    assert_eq!(c["RHO"], 5600, "floor(1.4 * 4000)");
+    let set = SpeedSet::parse("5", &x.W).unwrap();
+    let wset: Vec<Exact> = m
+        .grid
+        .speeds
+        .iter()
+        .map(|&w| Exact::from(w) / d.clone())
+        .collect();
+    let want: Vec<Exact> = set
+        .speeds()
+        .iter()
+        .map(|w| w.clone() * x.dt.clone())
+        .collect();
+    assert_eq!(wset, want);
+    assert!(declaration(&m).contains("const int WSET[NW] = {0, 15, 30, 45, 60};"));
+}
+
+#[test]
+fn the_query_file_states_passive_safety_and_the_seeds_form() {
+    let m = export(&seed(), "5");
+    let formula = "A[] not ((v > 0 && gap <= CLEARANCE) || (rested && restGap < CLEARANCE))";
+    assert!(m.query.trim_end().ends_with(formula), "{}", m.query);
+    assert!(m.query.starts_with("/*"));
+    assert!(
+        m.query
+            .contains("A[] forall (i:int[0,N-1]) R.y == obstacles[i].y")
+    );
+    assert!(m.query.contains("A[] (gap <= CLEARANCE imply v == 0)"));
+    assert_eq!(uppaal::query_formula(&m.network), formula);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Behaviour: the network answers what the explorer answers
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn the_network_agrees_with_the_explorer_on_the_same_finite_model() {
+    let mut verdicts = BTreeSet::new();
+    let mut cases = 0;
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..=3 {
+            for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3), (0.3, false, 1.0)] {
+                let p = small(rule, latency, w, wab, rho, 1.2);
+                let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+                let m = uppaal::export(&p, &set).unwrap();
+                let g = uppaal::explore_grid(&m, &Options::default()).unwrap();
+                let e = explore::explore(&p, set, &Options::default()).unwrap();
+                let what = format!("{rule} L={latency} W={w} wab={wab} rho={rho}");
+                assert!(g.complete, "{what}");
+                assert_eq!(g.verdict, e.verdict, "{what}: verdict");
+                assert_eq!(
+                    g.collision_period,
+                    e.counterexample.as_ref().map(|c| c.periods()),
+                    "{what}: shortest path to a collision, in periods"
+                );
+                if e.verdict == ExploreVerdict::Safe {
+                    assert_eq!(g.min_separation, e.min_separation, "{what}: separation");
+                    let d = Exact::from(m.grid.scale.clone());
+                    assert_eq!(
+                        Exact::from(g.min_separation_grid.unwrap()) / d,
+                        e.min_separation.clone().unwrap()
+                    );
+                }
+                verdicts.insert(format!("{:?}", g.verdict));
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 36);
+    assert_eq!(
+        verdicts.len(),
+        2,
+        "both safe and colliding problems: {verdicts:?}"
+    );
+}
+
+#[test]
+fn the_seed_network_agrees_with_the_explorer() {
+    let p = seed();
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    let m = uppaal::export(&p, &set).unwrap();
+    let g = uppaal::explore_grid(&m, &Options::default()).unwrap();
+    let e = explore::explore(&p, set, &Options::default()).unwrap();
+    assert_eq!(
+        (g.verdict, e.verdict),
+        (ExploreVerdict::Safe, ExploreVerdict::Safe)
+    );
+    assert_eq!(g.min_separation, e.min_separation);
+    assert!(g.states > e.states, "the network has no state abstraction");
+}
+
+fn with_decl(m: &UppaalModel, change: impl Fn(&mut Decl)) -> UppaalModel {
+    let mut m = m.clone();
+    for d in &mut m.network.declarations {
+        change(d);
+    }
+    m
+}
+
+/// The interpreter is a checker: a range too narrow for the reachable gaps is UPPAAL's abort,
+/// and a grid that would make a division round is an error, not a silent rounding.
+#[test]
+fn the_interpreter_catches_broken_networks() {
+    let p = small(DangerRule::Paper, 1, 0.3, true, 0.3, 1.2);
+    let m = export(&p, "2");
+    assert!(uppaal::explore_grid(&m, &Options::default()).is_ok());
+    let narrow = with_decl(&m, |d| {
+        if let Decl::Var {
+            name: "gap",
+            range: Some(r),
+            ..
+        } = d
+        {
+            r.3 -= 1;
+        }
+    });
+    let err = uppaal::explore_grid(&narrow, &Options::default()).unwrap_err();
+    assert!(
+        matches!(&err, UppaalError::Run(m) if m.contains("outside its declared range")),
+        "{err}"
+    );
+    let odd = with_decl(&m, |d| {
+        if let Decl::Const {
+            name: "ACC", value, ..
+        } = d
+        {
+            *value += 1;
+        }
+    });
+    let err = uppaal::explore_grid(&odd, &Options::default()).unwrap_err();
+    assert!(
+        matches!(&err, UppaalError::Run(m) if m.contains("not exact")),
+        "{err}"
+    );
+    let budget = uppaal::explore_grid(&m, &Options { max_states: 10 }).unwrap();
+    assert_eq!(budget.verdict, ExploreVerdict::Inconclusive);
+}
+
+#[test]
+fn grids_beyond_32_bits_are_refused() {
+    let p = seed();
+    let set = SpeedSet::parse("1/7919,1/7907,1/7901,0.15", &p.params::<Exact>().W).unwrap();
+    let err = uppaal::export(&p, &set).unwrap_err();
+    assert!(matches!(err, UppaalError::Grid(_)), "{err}");
+    assert!(err.to_string().contains("32-bit"), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command
+// ---------------------------------------------------------------------------------------------
+
+fn safereach(dir: &Path) -> Command {
+    let mut cmd = Command::cargo_bin("safereach").unwrap();
+    cmd.current_dir(dir);
+    cmd
+}
+
+fn files(dir: &Path) -> BTreeSet<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect()
+}
+
+#[test]
+fn cli_writes_the_model_and_the_query_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = safereach(dir.path())
+        .arg("export-uppaal")
+        .arg(problem_file("seed.toml"))
+        .args(["--out", "seed.xml"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("1 distance unit = 1/4000 m"), "{text}");
+    assert_eq!(
+        files(dir.path()),
+        BTreeSet::from(["seed.q".into(), "seed.xml".into()])
+    );
+    let xml = std::fs::read_to_string(dir.path().join("seed.xml")).unwrap();
+    assert_eq!(xml, export(&seed(), "5").xml);
+    check_structure(&xml);
+    let q = std::fs::read_to_string(dir.path().join("seed.q")).unwrap();
+    assert!(q.contains("A[] not"));
+    // Default name: the problem's, in the current directory.
+    let other = tempfile::tempdir().unwrap();
+    safereach(other.path())
+        .arg("export-uppaal")
+        .arg(problem_file("static-obstacle.toml"))
+        .args(["--speeds", "2"])
+        .assert()
+        .code(0);
+    assert_eq!(
+        files(other.path()),
+        BTreeSet::from(["static-obstacle.q".into(), "static-obstacle.xml".into()])
+    );
+}
+
+#[test]
+fn cli_bad_input_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (vec!["--out", "model.q"], "must not end in .q"),
+        (vec!["--speeds", "0.9"], "outside [0, W]"),
+        (vec!["--speeds", "1/7919,1/7907,1/7901,0.15"], "32-bit"),
+        (vec!["--out", "missing-dir/seed.xml"], "missing-dir"),
+    ] {
+        let out = safereach(dir.path())
+            .arg("export-uppaal")
+            .arg(problem_file("seed.toml"))
+            .args(&args)
+            .assert()
+            .code(2)
+            .get_output()
+            .clone();
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    assert!(files(dir.path()).is_empty(), "nothing written on error");
+}
+
+#[test]
+fn cli_explore_grid_answers_like_the_explorer() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = safereach(dir.path())
+        .arg("explore")
+        .arg(problem_file("seed.toml"))
+        .args(["--speeds", "2", "--grid", "--json"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let plain = safereach(dir.path())
+        .arg("explore")
+        .arg(problem_file("seed.toml"))
+        .args(["--speeds", "2", "--json"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let g: serde_json::Value = serde_json::from_slice(&grid.stdout).unwrap();
+    let e: serde_json::Value = serde_json::from_slice(&plain.stdout).unwrap();
+    assert_eq!(g["verdict"], "safe");
+    assert_eq!(g["grid"], true);
+    assert_eq!(g["min_separation"], e["min_separation"]);
+    assert_eq!(g["scale_per_metre"], "4000");
+}
