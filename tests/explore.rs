@@ -437,6 +437,9 @@ struct Full {
     states: usize,
 }
 
+/// A world and the history it was reached by (gap, speed per period).
+type Visit = (World<Exact>, Vec<(Exact, Exact)>);
+
 /// Breadth-first search over complete world states, with no abstraction at all. A path
 /// ends when the robot rests, or when it accelerates or drives while observing a gap ≤ 0
 /// (every later observation is ≤ 0 too: it never brakes).
@@ -444,8 +447,7 @@ fn unabstracted(p: &Problem, set: &SpeedSet) -> Full {
     let params: Params<Exact> = p.params();
     let l = params.L;
     let mut seen: HashMap<FullKey, ()> = HashMap::new();
-    let mut queue: VecDeque<(World<Exact>, Vec<(Exact, Exact)>)> =
-        VecDeque::from([(World::new(params.clone()), Vec::new())]);
+    let mut queue: VecDeque<Visit> = VecDeque::from([(World::new(params.clone()), Vec::new())]);
     let mut out = Full {
         never_stops: false,
         min_rest: None,
