@@ -50,3 +50,33 @@ pub fn trace_csv(rows: &[TraceRow], obstacle_id: &str) -> String {
     }
     out
 }
+
+/// The same trace as JSON Lines, one object per row with the keys of [`trace_csv`]'s columns
+/// (`obstacle_id` a string).
+pub fn trace_jsonl(rows: &[TraceRow], obstacle_id: &str) -> String {
+    let id = serde_json::to_string(obstacle_id).expect("a string serialises");
+    let mut out = String::new();
+    let mut previous = 0.0;
+    for r in rows {
+        out.push_str(&format!(
+            "{{\"t\":{},\"robot_x\":{},\"robot_v\":{},\"robot_mode\":\"{}\",\"obstacle_id\":{id},\"obstacle_x\":{},\"obstacle_v\":{}}}\n",
+            r.t,
+            r.robot_position,
+            r.robot_speed,
+            r.robot_mode.as_str(),
+            r.obstacle_position,
+            previous
+        ));
+        previous = r.obstacle_speed;
+    }
+    out
+}
+
+/// The trace in the format `path`'s extension names: JSON Lines for `.jsonl` or `.ndjson`,
+/// CSV otherwise.
+pub fn trace_for_path(path: &Path, rows: &[TraceRow], obstacle_id: &str) -> String {
+    match crate::monitor::trace::Format::from_path(path) {
+        Some(crate::monitor::trace::Format::Jsonl) => trace_jsonl(rows, obstacle_id),
+        _ => trace_csv(rows, obstacle_id),
+    }
+}

@@ -1,14 +1,503 @@
-//! `safereach monitor`: placeholder, to be written (issue 4).
+//! `safereach monitor`: checks a trace, live or from a file, against a certificate's
+//! premises, printing a verdict per sample as soon as the sample is read.
+//!
+//! A thin shell over [`safereach::monitor`]: this file reads lines, hands them to the
+//! library's [`Decoder`] and [`Monitor`], and prints. It streams: stdout is flushed whenever
+//! the input has no complete line buffered, right before a read that may block, so on a pipe
+//! (`tail -f -n +1 log.csv | safereach monitor --certificate cert.json -`) every verdict is
+//! out as soon as its sample is in, and on a file the output is written in large blocks.
+//!
+//! Output (stdout), one line per sample unless `--events-only`:
+//!
+//! ```text
+//! t=27.6 ok                                  every premise has held so far
+//! t=27.7 VIOLATION obstacle_speed obstacle=0 observed 0.2337 m/s > bound 0.2 m/s -> brake (line 280)
+//! t=27.8 violated                            no new event; an earlier sample violated a premise
+//! ```
+//!
+//! A sample raising several events prints one `VIOLATION` line for each. `t` is printed as
+//! the trace wrote it (`t=?` when it could not be read). A summary follows the last sample.
+//! With `--json`, only events (one JSON object per line: `t, obstacle_id, premise, observed,
+//! bound, action`, plus `unit, line, detail`) and a final `{"summary": …}` line are printed.
+//!
+//! Exit codes: 0 every premise held, 1 a violation, 2 the certificate is unusable (unreadable,
+//! fails `check`, or not `certified`), bad arguments, or an I/O error.
 
+use std::fs::File;
+use std::io::{self, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use safereach::certificate::Certificate;
+use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
+use safereach::monitor::{
+    DEFAULT_MAX_OBSTACLES, Detail, Event, Monitor, PremiseSummary, Status, Summary, Verdict,
+};
 
 /// Arguments of `safereach monitor`.
 #[derive(clap::Args)]
-pub struct MonitorArgs {}
+pub struct MonitorArgs {
+    /// Certificate (JSON, as written by `certify --out`) whose premises are checked.
+    #[arg(long, value_name = "CERT")]
+    certificate: PathBuf,
+    /// Trace to check: a CSV or JSON Lines file, or `-` for standard input (live).
+    #[arg(value_name = "TRACE")]
+    trace: PathBuf,
+    /// Trace format [default: by extension (.csv, .jsonl), else by the first line].
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    format: Option<FormatArg>,
+    /// Print violation events and the summary as JSON, one object per line.
+    #[arg(long)]
+    json: bool,
+    /// The CSV has no header line; these are its columns, comma-separated
+    /// (e.g. t,robot_x,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_v).
+    #[arg(long, value_name = "NAMES")]
+    columns: Option<String>,
+    /// Print only violation events and the summary, no verdict line per sample.
+    #[arg(long)]
+    events_only: bool,
+}
+
+/// `--format`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FormatArg {
+    /// CSV with a header.
+    Csv,
+    /// JSON Lines.
+    Jsonl,
+}
 
 /// Runs `safereach monitor`.
-pub fn run(_args: MonitorArgs) -> Result<ExitCode> {
-    anyhow::bail!("monitor is not implemented yet")
+pub fn run(args: MonitorArgs) -> Result<ExitCode> {
+    let cert = read_certificate(&args.certificate)?;
+    let mut monitor = Monitor::new(&cert)
+        .with_context(|| format!("{}: certificate unusable", args.certificate.display()))?;
+    let columns = args
+        .columns
+        .as_deref()
+        .map(|list| {
+            Columns::from_names(list).map_err(|d| anyhow::anyhow!("--columns {list:?}: {d}"))
+        })
+        .transpose()?;
+    let live = args.trace.as_os_str() == "-";
+    let format = match args.format {
+        Some(FormatArg::Csv) => Some(Format::Csv),
+        Some(FormatArg::Jsonl) => Some(Format::Jsonl),
+        None if live => None,
+        None => Format::from_path(&args.trace),
+    };
+    let input: Box<dyn Read> = if live {
+        Box::new(io::stdin().lock())
+    } else {
+        Box::new(
+            File::open(&args.trace)
+                .with_context(|| format!("{}: cannot open the trace", args.trace.display()))?,
+        )
+    };
+    let mut decoder = Decoder::new(format, columns, DEFAULT_MAX_OBSTACLES);
+    let mut out = BufWriter::with_capacity(1 << 16, io::stdout().lock());
+    let mut lines = Lines::new(input);
+    let mut printer = Printer {
+        json: args.json,
+        per_sample: !args.json && !args.events_only,
+        first: None,
+    };
+    let origin = if live {
+        "standard input".to_string()
+    } else {
+        args.trace.display().to_string()
+    };
+    loop {
+        let line = lines
+            .next(&mut out)
+            .with_context(|| format!("reading {origin}"))?;
+        let Some((number, line)) = line else {
+            break;
+        };
+        let (was, t_text, outcome) = match line {
+            Line::TooLong => {
+                let was = monitor.verdict();
+                let limit = MAX_LINE as u32;
+                (
+                    was,
+                    None,
+                    monitor.malformed(None, Detail::LineTooLong { limit }),
+                )
+            }
+            Line::Text(bytes) => match decoder.decode(bytes) {
+                Decoded::Blank | Decoded::Header => continue,
+                Decoded::Sample { sample, t_text } => {
+                    let was = monitor.verdict();
+                    (was, Some(t_text), monitor.observe(&sample))
+                }
+                Decoded::Malformed { t, t_text, detail } => {
+                    let was = monitor.verdict();
+                    (was, t_text, monitor.malformed(t, detail))
+                }
+            },
+        };
+        printer
+            .sample(
+                &mut out,
+                &decoder,
+                number,
+                t_text,
+                was,
+                outcome.verdict,
+                outcome.events,
+            )
+            .context("writing the output")?;
+    }
+    let summary = monitor.summary();
+    printer
+        .summary(&mut out, &decoder, &summary)
+        .and_then(|()| out.flush())
+        .context("writing the output")?;
+    Ok(ExitCode::from(match summary.verdict {
+        Verdict::Held => 0,
+        Verdict::Violated => 1,
+    }))
+}
+
+fn read_certificate(path: &Path) -> Result<Certificate> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the certificate", path.display()))?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a safereach certificate", path.display()))
+}
+
+// ------------------------------------------------------------------------------------------
+// Reading lines without allocating, flushing the output before a read that may block
+// ------------------------------------------------------------------------------------------
+
+/// Bytes asked of the input per read.
+const CHUNK: usize = 1 << 20;
+/// Longest line accepted (bytes); a longer one is `malformed_sample` and skipped.
+const MAX_LINE: usize = 1 << 20;
+
+enum Line<'a> {
+    Text(&'a [u8]),
+    TooLong,
+}
+
+struct Lines<R> {
+    inner: R,
+    buf: Vec<u8>,
+    start: usize,
+    end: usize,
+    eof: bool,
+    /// Skipping the rest of a too-long line.
+    skipping: bool,
+    /// 1-based number of the last line returned.
+    number: u64,
+}
+
+/// Position of the first `\n` in `s`, eight bytes at a time.
+#[inline]
+fn find_newline(s: &[u8]) -> Option<usize> {
+    const LO: u64 = 0x0101_0101_0101_0101;
+    const HI: u64 = 0x8080_8080_8080_8080;
+    const NL: u64 = LO * b'\n' as u64;
+    let mut chunks = s.chunks_exact(8);
+    let mut base = 0;
+    for c in &mut chunks {
+        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]) ^ NL;
+        let zero = w.wrapping_sub(LO) & !w & HI;
+        if zero != 0 {
+            return Some(base + (zero.trailing_zeros() / 8) as usize);
+        }
+        base += 8;
+    }
+    chunks
+        .remainder()
+        .iter()
+        .position(|&b| b == b'\n')
+        .map(|k| base + k)
+}
+
+impl<R: Read> Lines<R> {
+    fn new(inner: R) -> Self {
+        Lines {
+            inner,
+            buf: vec![0; CHUNK + MAX_LINE],
+            start: 0,
+            end: 0,
+            eof: false,
+            skipping: false,
+            number: 0,
+        }
+    }
+
+    /// The next line (without `\n`) and its 1-based number, or `None` at the end of the
+    /// input. Before a read of the input, `out` is flushed: whatever was printed for earlier
+    /// lines goes out before the monitor waits for more.
+    fn next(&mut self, out: &mut impl Write) -> io::Result<Option<(u64, Line<'_>)>> {
+        loop {
+            if let Some(k) = find_newline(&self.buf[self.start..self.end]) {
+                let line = self.start..self.start + k;
+                self.start += k + 1;
+                if std::mem::take(&mut self.skipping) {
+                    continue;
+                }
+                self.number += 1;
+                return Ok(Some((self.number, Line::Text(&self.buf[line]))));
+            }
+            if self.skipping {
+                self.start = self.end;
+            }
+            if self.eof {
+                if self.start < self.end {
+                    let line = self.start..self.end;
+                    self.start = self.end;
+                    self.number += 1;
+                    return Ok(Some((self.number, Line::Text(&self.buf[line]))));
+                }
+                return Ok(None);
+            }
+            if self.end - self.start >= MAX_LINE {
+                self.start = self.end;
+                self.skipping = true;
+                self.number += 1;
+                return Ok(Some((self.number, Line::TooLong)));
+            }
+            self.buf.copy_within(self.start..self.end, 0);
+            self.end -= self.start;
+            self.start = 0;
+            out.flush()?;
+            let n = loop {
+                match self.inner.read(&mut self.buf[self.end..]) {
+                    Ok(n) => break n,
+                    Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                    Err(e) => return Err(e),
+                }
+            };
+            if n == 0 {
+                self.eof = true;
+            }
+            self.end += n;
+        }
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Printing
+// ------------------------------------------------------------------------------------------
+
+/// Where the first violation was, for the summary.
+struct First {
+    line: u64,
+    t_text: Option<String>,
+    obstacle: Option<String>,
+}
+
+struct Printer {
+    json: bool,
+    per_sample: bool,
+    first: Option<First>,
+}
+
+/// One event as a `--json` line.
+#[derive(Serialize)]
+struct EventJson<'a> {
+    t: Option<f64>,
+    obstacle_id: Option<&'a str>,
+    premise: &'static str,
+    observed: Option<f64>,
+    bound: Option<f64>,
+    action: &'static str,
+    unit: &'static str,
+    line: u64,
+    detail: Option<String>,
+}
+
+impl<'a> EventJson<'a> {
+    fn new(e: &Event, obstacle: Option<&'a str>, line: u64) -> Self {
+        EventJson {
+            t: e.t,
+            obstacle_id: obstacle,
+            premise: e.check.as_str(),
+            observed: e.observed,
+            bound: e.bound,
+            action: e.action.as_str(),
+            unit: e.check.unit(),
+            line,
+            detail: e.detail.map(|d| d.to_string()),
+        }
+    }
+}
+
+/// The `--json` summary line: `{"summary": …}`.
+#[derive(Serialize)]
+struct SummaryJson<'a> {
+    verdict: &'static str,
+    samples: u64,
+    instants: u64,
+    obstacles: u64,
+    violations: u64,
+    first_violation: Option<EventJson<'a>>,
+    premises: &'a [PremiseSummary],
+    fail_safe: serde_json::Map<String, serde_json::Value>,
+}
+
+/// An obstacle's name as the trace wrote it.
+fn obstacle_name<'d>(decoder: &'d Decoder, e: &Event) -> Option<&'d str> {
+    e.obstacle_id.map(|id| decoder.ids().name(id))
+}
+
+impl Printer {
+    #[allow(clippy::too_many_arguments)]
+    fn sample(
+        &mut self,
+        out: &mut impl Write,
+        decoder: &Decoder,
+        line: u64,
+        t_text: Option<&[u8]>,
+        was: Verdict,
+        verdict: Verdict,
+        events: &[Event],
+    ) -> io::Result<()> {
+        if was == Verdict::Held
+            && let Some(e) = events.first()
+        {
+            self.first = Some(First {
+                line,
+                t_text: t_text.map(|t| String::from_utf8_lossy(t).into_owned()),
+                obstacle: obstacle_name(decoder, e).map(str::to_string),
+            });
+        }
+        if self.json {
+            for e in events {
+                serde_json::to_writer(
+                    &mut *out,
+                    &EventJson::new(e, obstacle_name(decoder, e), line),
+                )?;
+                out.write_all(b"\n")?;
+            }
+            return Ok(());
+        }
+        if events.is_empty() {
+            if self.per_sample {
+                out.write_all(b"t=")?;
+                out.write_all(t_text.unwrap_or(b"?"))?;
+                out.write_all(match verdict {
+                    Verdict::Held => b" ok\n",
+                    Verdict::Violated => b" violated\n",
+                })?;
+            }
+            return Ok(());
+        }
+        for e in events {
+            out.write_all(b"t=")?;
+            out.write_all(t_text.unwrap_or(b"?"))?;
+            out.write_all(b" VIOLATION ")?;
+            describe(out, e, obstacle_name(decoder, e))?;
+            writeln!(out, " (line {line})")?;
+        }
+        Ok(())
+    }
+
+    fn summary(&self, out: &mut impl Write, decoder: &Decoder, s: &Summary) -> io::Result<()> {
+        let first = s.first_violation.as_ref().zip(self.first.as_ref());
+        if self.json {
+            let summary = SummaryJson {
+                verdict: s.verdict.as_str(),
+                samples: s.samples,
+                instants: s.instants,
+                obstacles: s.obstacles,
+                violations: s.violations,
+                first_violation: first
+                    .map(|(e, f)| EventJson::new(e, f.obstacle.as_deref(), f.line)),
+                premises: &s.premises,
+                fail_safe: s
+                    .fail_safe
+                    .iter()
+                    .map(|f| (f.check.as_str().to_string(), f.violations.into()))
+                    .collect(),
+            };
+            serde_json::to_writer(&mut *out, &serde_json::json!({ "summary": summary }))?;
+            return out.write_all(b"\n");
+        }
+        let plural = |n: u64, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
+        let counts = format!(
+            "{} ({}, {})",
+            plural(s.samples, "sample"),
+            plural(s.instants, "instant"),
+            plural(s.obstacles, "obstacle")
+        );
+        match s.verdict {
+            Verdict::Held if s.samples == 0 => {
+                writeln!(out, "summary: held: no samples, nothing was checked")?
+            }
+            Verdict::Held => writeln!(
+                out,
+                "summary: held: every monitored premise held over {counts}"
+            )?,
+            Verdict::Violated => writeln!(
+                out,
+                "summary: VIOLATED: {} in {counts} -> brake (enter the passive safe state)",
+                plural(s.violations, "violation")
+            )?,
+        }
+        if let Some((e, f)) = first {
+            write!(
+                out,
+                "first violation: t={} ",
+                f.t_text.as_deref().unwrap_or("?")
+            )?;
+            describe(out, e, f.obstacle.as_deref())?;
+            writeln!(out, " (line {})", f.line)?;
+        }
+        writeln!(out, "premises:")?;
+        for p in &s.premises {
+            let count = match p.status {
+                Status::Violated => format!("{} of {}", p.violations, plural(p.checks, "check")),
+                _ => plural(p.checks, "check"),
+            };
+            let bound = format!("bound {} {}", p.bound, p.unit);
+            let reason = p
+                .reason
+                .as_deref()
+                .map(|r| format!(": {r}"))
+                .unwrap_or_default();
+            writeln!(
+                out,
+                "  {:<21} {:<14} {count:<20} {bound}{reason}",
+                p.premise.as_str(),
+                p.status.as_str()
+            )?;
+        }
+        let fail_safe: Vec<String> = s
+            .fail_safe
+            .iter()
+            .map(|f| format!("{} {}", f.check.as_str(), f.violations))
+            .collect();
+        writeln!(out, "fail-safe: {}", fail_safe.join(", "))?;
+        let _ = decoder;
+        Ok(())
+    }
+}
+
+/// `premise obstacle=ID observed X unit > bound Y unit: detail -> brake`.
+fn describe(out: &mut impl Write, e: &Event, obstacle: Option<&str>) -> io::Result<()> {
+    write!(out, "{}", e.check.as_str())?;
+    if let Some(name) = obstacle {
+        write!(out, " obstacle={name}")?;
+    }
+    let unit = e.check.unit();
+    match (e.observed, e.bound) {
+        (Some(o), Some(b)) => write!(
+            out,
+            " observed {o} {unit} {} bound {b} {unit}",
+            e.check.relation()
+        )?,
+        (Some(o), None) => write!(out, " observed {o} {unit}")?,
+        _ => {}
+    }
+    if let Some(d) = &e.detail {
+        write!(out, ": {d}")?;
+    }
+    write!(out, " -> {}", e.action.as_str())
 }
