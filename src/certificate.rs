@@ -76,10 +76,15 @@ pub fn premises(problem: &Problem) -> Vec<Premise> {
             f64::from(r.latency),
             "periods",
         ),
+        // The model's obstacle starts at the initial gap: inside the reaction radius when that
+        // is smaller, and then that is what the proof covers.
         p(
             "first_detection_gap",
-            "an obstacle is first seen at a gap of at least the reaction radius",
-            problem.controller.reaction_radius,
+            "an obstacle is first seen at a gap of at least the reaction radius (or the initial gap, if smaller)",
+            problem
+                .controller
+                .reaction_radius
+                .min(problem.environment.initial_gap),
             "m",
         ),
         p(

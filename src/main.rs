@@ -13,8 +13,24 @@ use clap::{Parser, Subcommand};
 use safereach::analysis::{self, Verdict};
 use safereach::certificate::{self, Certificate};
 use safereach::model::Problem;
-use safereach::output::{trace_csv, write_atomic};
+use safereach::output::{trace_for_path, write_atomic};
 use safereach::simulate;
+
+/// `println!` that reports a failed write (a closed pipe) as an error instead of panicking.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout(), $($arg)*)?
+    }};
+}
+
+/// `print!` that reports a failed write as an error instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout(), $($arg)*)?
+    }};
+}
 
 mod commands;
 
@@ -66,7 +82,7 @@ enum Command {
         /// Replay this certificate's witness instead of random runs.
         #[arg(long, value_name = "CERT")]
         replay: Option<PathBuf>,
-        /// Write the replayed run (or the random run that came closest) as CSV.
+        /// Write the replayed run (or the random run that came closest): CSV, or JSON Lines for .jsonl.
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Print JSON.
@@ -81,7 +97,7 @@ enum Command {
     Sweep(commands::sweep::SweepArgs),
     /// Regenerate reports (Markdown + SVG) from grids, or merge sweep shards into them.
     Report(commands::sweep::ReportArgs),
-    /// Check live traces against a certificate's premises (exit 0 held, 1 violated).
+    /// Check live traces against a certificate's premises (exit 0 held, 1 violated, 2 unusable certificate or I/O error).
     Monitor(commands::monitor::MonitorArgs),
     /// Exhaustive breadth-first exploration of the finite model (obstacle speeds from a finite set).
     Explore(commands::explore::ExploreArgs),
@@ -93,6 +109,16 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(code) => code,
+        // The reader went away (`safereach certify --json | head`): stop quietly, as a
+        // program killed by SIGPIPE would (status 128 + 13).
+        Err(e)
+            if e.chain().any(|c| {
+                c.downcast_ref::<std::io::Error>()
+                    .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            }) =>
+        {
+            ExitCode::from(141)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(2)
@@ -153,9 +179,9 @@ fn certify(problem: &Path, sets: &[String], json: bool, out: Option<&Path>) -> R
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if json {
-        print!("{text}");
+        out!("{text}");
     } else {
-        print!("{}", summary(&cert));
+        out!("{}", summary(&cert));
     }
     Ok(ExitCode::from(match cert.verdict {
         Verdict::Certified => 0,
@@ -223,7 +249,7 @@ fn check(path: &Path) -> Result<ExitCode> {
     let cert = read_certificate(path)?;
     match certificate::check(&cert) {
         Ok(report) => {
-            println!(
+            outln!(
                 "{}: valid; verdict {} re-verified in exact arithmetic over {} pieces",
                 path.display(),
                 report.verdict.as_str(),
@@ -232,7 +258,7 @@ fn check(path: &Path) -> Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Err(e) => {
-            println!("{}: INVALID: {e}", path.display());
+            outln!("{}: INVALID: {e}", path.display());
             Ok(ExitCode::from(1))
         }
     }
@@ -266,17 +292,17 @@ fn simulate_cmd(
         );
         let rows = simulate::trace(&exact, &run);
         if let Some(path) = trace {
-            write_atomic(path, trace_csv(&rows, "0").as_bytes())
+            write_atomic(path, trace_for_path(path, &rows, "0").as_bytes())
                 .with_context(|| format!("writing {}", path.display()))?;
         }
         let sep = run.outcome.rest_gap.as_ref().map(|g| g.to_f64().value());
         if json {
-            println!(
+            outln!(
                 "{}",
                 serde_json::json!({"replay": cert_path, "collided": run.outcome.collided, "separation": sep, "steps": rows.len()})
             );
         } else {
-            println!(
+            outln!(
                 "replayed {}: {} periods, {}, separation at rest {}",
                 cert_path.display(),
                 run.records.len(),
@@ -304,15 +330,20 @@ fn simulate_cmd(
             false,
         );
         let rows = simulate::trace(&floats, &run);
-        write_atomic(path, trace_csv(&rows, "0").as_bytes())
+        write_atomic(path, trace_for_path(path, &rows, "0").as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if json {
-        println!("{}", serde_json::to_string(&mc)?);
+        outln!("{}", serde_json::to_string(&mc)?);
     } else {
-        println!(
+        outln!(
             "{}: {} runs (seed {}), {} collisions, minimum separation seen {:.6} m (run {})",
-            problem.name, mc.runs, mc.seed, mc.collisions, mc.min_separation, mc.closest_run
+            problem.name,
+            mc.runs,
+            mc.seed,
+            mc.collisions,
+            mc.min_separation,
+            mc.closest_run
         );
     }
     Ok(ExitCode::from(u8::from(mc.collisions > 0)))

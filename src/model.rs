@@ -340,7 +340,7 @@ fn show_known(known: &[String]) -> String {
 #[non_exhaustive]
 pub enum ProblemError {
     /// The file could not be read (missing, unreadable, not UTF-8).
-    #[error("{origin}: cannot read the problem file: {source}")]
+    #[error("{origin}: cannot read the problem file")]
     Read {
         /// The path.
         origin: String,

@@ -202,9 +202,11 @@ fn bisect_newton(
 }
 
 fn summary(a: &Analysis) -> String {
+    let clearance = a.problem.robot.clearance;
     match (a.never_stops, a.min_separation) {
         (true, _) => "the robot may never brake (s* = -inf)".into(),
-        (_, Some(s)) => format!("s* = {s:.6} m"),
+        (_, Some(s)) if s < clearance => format!("s* = {s:.6} m, a collision"),
+        (_, Some(s)) => format!("s* = {s:.6} m, not above the clearance ({clearance} m)"),
         _ => "no worst case realised".into(),
     }
 }

@@ -35,7 +35,7 @@ use crate::simulate;
 #[non_exhaustive]
 pub enum GridError {
     /// The grid file could not be read.
-    #[error("{path}: {source}")]
+    #[error("{path}: cannot read the file")]
     Read {
         /// The file.
         path: String,

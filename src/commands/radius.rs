@@ -132,15 +132,15 @@ pub fn run(args: RadiusArgs) -> Result<ExitCode> {
                 .with_context(|| format!("writing {}", path.display()))?;
         }
         if !args.json {
-            println!("{}", b.describe(&problem));
+            outln!("{}", b.describe(&problem));
         }
         answers.push(answer(&problem, &b));
     }
     if args.json {
         if args.speeds.is_empty() {
-            println!("{}", serde_json::to_string_pretty(&answers[0])?);
+            outln!("{}", serde_json::to_string_pretty(&answers[0])?);
         } else {
-            println!("{}", serde_json::to_string_pretty(&answers)?);
+            outln!("{}", serde_json::to_string_pretty(&answers)?);
         }
     }
     Ok(ExitCode::from(u8::from(!all)))
@@ -155,9 +155,9 @@ pub fn max_speed(args: MaxSpeedArgs) -> Result<ExitCode> {
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&answer(&problem, &b))?);
+        outln!("{}", serde_json::to_string_pretty(&answer(&problem, &b))?);
     } else {
-        println!("{}", b.describe(&problem));
+        outln!("{}", b.describe(&problem));
     }
     Ok(ExitCode::from(u8::from(b.value.is_none())))
 }

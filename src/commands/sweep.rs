@@ -107,7 +107,7 @@ pub fn run(args: SweepArgs) -> Result<ExitCode> {
     let csv = args.out.join(format!("{stem}.csv"));
     write(&jsonl, &sweep::to_jsonl(&results))?;
     write(&csv, &sweep::to_csv(&results, &keys(&grid)))?;
-    println!(
+    outln!(
         "{}: {} of {} cells in {:.2} s ({:.0} cells/s): {}; wrote {} and {}",
         grid.name,
         results.len(),
@@ -223,7 +223,7 @@ pub fn report_cmd(args: ReportArgs) -> Result<ExitCode> {
             &args.out.join(format!("{}.csv", grid.name)),
             &sweep::to_csv(&results, &keys(&grid)),
         )?;
-        println!(
+        outln!(
             "{}: {} cells ({}); wrote {}",
             grid.name,
             results.len(),
