@@ -490,11 +490,18 @@ fn replay_witness(
 
 /// The nearest-float version of exact parameters.
 pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
+    let (v_max, a, b, dt) = (
+        p.v_max.to_f64().value(),
+        p.a.to_f64().value(),
+        p.b.to_f64().value(),
+        p.dt.to_f64().value(),
+    );
     Params {
-        v_max: p.v_max.to_f64().value(),
-        a: p.a.to_f64().value(),
-        b: p.b.to_f64().value(),
-        dt: p.dt.to_f64().value(),
+        k: crate::model::StepConstants::of(&v_max, &a, &b, &dt),
+        v_max,
+        a,
+        b,
+        dt,
         L: p.L,
         clearance: p.clearance.to_f64().value(),
         V_a: p.V_a.to_f64().value(),

@@ -28,6 +28,23 @@
 //! robot's discrete schedule ([`schedule`]); each piece is a tiny linear program
 //! ([`program`]) solved by Clarabel ([`lp`]), whose dual multipliers become the certificate.
 
+//! ```
+//! use safereach::analysis::{Verdict, analyse};
+//! use safereach::certificate::{Certificate, check};
+//! use safereach::model::Problem;
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"))?;
+//! let problem = Problem::from_toml_str(&text, "seed.toml")?;
+//! let analysis = analyse(&problem)?;
+//! assert_eq!(analysis.verdict, Verdict::Certified);
+//! // The certificate is re-verified in exact arithmetic, without the solver.
+//! let certificate = Certificate::from_analysis(&analysis);
+//! assert_eq!(check(&certificate)?.verdict, Verdict::Certified);
+//! # Ok(())
+//! # }
+//! ```
+
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 

@@ -129,6 +129,42 @@ pub struct Params<N> {
     pub W: N,
     /// initial gap
     pub g0: N,
+    /// Products every control period uses, computed once from the numbers above.
+    pub k: StepConstants<N>,
+}
+
+/// Products of a problem's numbers that the step function uses every control period:
+/// computing them once takes a third of the exact arithmetic out of each step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepConstants<N> {
+    /// 1/2
+    pub half: N,
+    /// v_max·dt
+    pub v_max_dt: N,
+    /// a·dt
+    pub a_dt: N,
+    /// a·dt²/2
+    pub half_a_dt2: N,
+    /// b·dt
+    pub b_dt: N,
+    /// b·dt²/2
+    pub half_b_dt2: N,
+}
+
+impl<N: Scalar> StepConstants<N> {
+    /// The constants of v_max, a, b and dt.
+    pub fn of(v_max: &N, a: &N, b: &N, dt: &N) -> Self {
+        let half = N::int(1) / N::int(2);
+        let dt2 = dt.clone() * dt.clone();
+        StepConstants {
+            v_max_dt: v_max.clone() * dt.clone(),
+            a_dt: a.clone() * dt.clone(),
+            half_a_dt2: half.clone() * a.clone() * dt2.clone(),
+            b_dt: b.clone() * dt.clone(),
+            half_b_dt2: half.clone() * b.clone() * dt2,
+            half,
+        }
+    }
 }
 
 impl Problem {
@@ -137,11 +173,18 @@ impl Problem {
         let r = &self.robot;
         let c = &self.controller;
         let e = &self.environment;
+        let (v_max, a, b, dt) = (
+            N::decimal(r.max_speed),
+            N::decimal(r.acceleration),
+            N::decimal(r.braking),
+            N::decimal(r.control_period),
+        );
         Params {
-            v_max: N::decimal(r.max_speed),
-            a: N::decimal(r.acceleration),
-            b: N::decimal(r.braking),
-            dt: N::decimal(r.control_period),
+            k: StepConstants::of(&v_max, &a, &b, &dt),
+            v_max,
+            a,
+            b,
+            dt,
             L: r.latency as usize,
             clearance: N::decimal(r.clearance),
             V_a: N::decimal(c.assumed_obstacle_speed),

@@ -80,26 +80,26 @@ impl<N: Scalar> Motion<N> {
 /// clamped at v_max and at 0 inside the period (a robot that stops mid-period has moved
 /// v²/(2b), not v·dt). The mode in `state` is the one chosen at the period's start.
 pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N> {
-    let dt = p.dt.clone();
+    let dt = &p.dt;
+    let k = &p.k;
     let x = state.position.clone();
     let v = state.speed.clone();
     match state.mode {
         Mode::Accelerate | Mode::Drive if v >= p.v_max => Motion {
             end: RobotState {
-                position: x + p.v_max.clone() * dt.clone(),
+                position: x + k.v_max_dt.clone(),
                 speed: p.v_max.clone(),
                 mode: Mode::Drive,
             },
-            moving_for: dt,
+            moving_for: dt.clone(),
         },
         Mode::Accelerate => {
-            let half = N::int(1) / N::int(2);
-            let reach = (p.v_max.clone() - v.clone()) / p.a.clone();
-            if reach <= dt {
-                // Reaches v_max inside the period, then cruises.
+            if p.v_max.clone() - v.clone() <= k.a_dt {
+                // Reaches v_max inside the period (after `reach`), then cruises.
+                let reach = (p.v_max.clone() - v.clone()) / p.a.clone();
                 let position = x
-                    + v.clone() * reach.clone()
-                    + half * p.a.clone() * reach.clone() * reach.clone()
+                    + v * reach.clone()
+                    + k.half.clone() * p.a.clone() * reach.clone() * reach.clone()
                     + p.v_max.clone() * (dt.clone() - reach);
                 Motion {
                     end: RobotState {
@@ -107,18 +107,17 @@ pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N
                         speed: p.v_max.clone(),
                         mode: Mode::Drive,
                     },
-                    moving_for: dt,
+                    moving_for: dt.clone(),
                 }
             } else {
-                let position =
-                    x + v.clone() * dt.clone() + half * p.a.clone() * dt.clone() * dt.clone();
+                let position = x + v.clone() * dt.clone() + k.half_a_dt2.clone();
                 Motion {
                     end: RobotState {
                         position,
-                        speed: v + p.a.clone() * dt.clone(),
+                        speed: v + k.a_dt.clone(),
                         mode: Mode::Accelerate,
                     },
-                    moving_for: dt,
+                    moving_for: dt.clone(),
                 }
             }
         }
@@ -128,7 +127,7 @@ pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N
                 speed: v,
                 mode: Mode::Drive,
             },
-            moving_for: dt,
+            moving_for: dt.clone(),
         },
         Mode::Brake => {
             if v <= N::zero() {
@@ -141,10 +140,10 @@ pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N
                     moving_for: N::zero(),
                 };
             }
-            let half = N::int(1) / N::int(2);
-            let stop = v.clone() / p.b.clone();
-            if stop <= dt {
-                let position = x + half * v.clone() * stop.clone();
+            if v <= k.b_dt {
+                // Stops inside the period, after v/b, having moved v²/(2b).
+                let stop = v.clone() / p.b.clone();
+                let position = x + k.half.clone() * v * stop.clone();
                 Motion {
                     end: RobotState {
                         position,
@@ -154,15 +153,14 @@ pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N
                     moving_for: stop,
                 }
             } else {
-                let position =
-                    x + v.clone() * dt.clone() - half * p.b.clone() * dt.clone() * dt.clone();
+                let position = x + v.clone() * dt.clone() - k.half_b_dt2.clone();
                 Motion {
                     end: RobotState {
                         position,
-                        speed: v - p.b.clone() * dt.clone(),
+                        speed: v - k.b_dt.clone(),
                         mode: Mode::Brake,
                     },
-                    moving_for: dt,
+                    moving_for: dt.clone(),
                 }
             }
         }

@@ -235,6 +235,11 @@ fn random_cases(n: usize) -> Vec<Case> {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(7);
+    random_cases_from(n, seed)
+}
+
+/// `n` random cases from the given seed.
+fn random_cases_from(n: usize, seed: u8) -> Vec<Case> {
     let mut runner = TestRunner::new_with_rng(
         Config::default(),
         TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]),
@@ -1044,6 +1049,16 @@ fn random_problems_agree_with_brute_force() {
     let cases = random_cases(random_count());
     let tally = run_cases(&cases);
     report("random", &cases, &tally);
+}
+
+/// The slow cross-check (run by CI with `--include-ignored`): 600 more random problems from
+/// another seed, about 25 s in release.
+#[test]
+#[ignore = "slow cross-check; CI runs it with --include-ignored"]
+fn long_hunt_agrees_with_brute_force() {
+    let cases = random_cases_from(600, 42);
+    let tally = run_cases(&cases);
+    report("long hunt", &cases, &tally);
 }
 
 /// Regression (found by this oracle): with latency 2 and a fast obstacle the robot collides
