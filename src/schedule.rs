@@ -607,3 +607,64 @@ fn min_opt(rho: &Exact, d: Option<Exact>) -> Exact {
         _ => rho.clone(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn problem(v: f64, a: f64, b: f64, dt: f64) -> Problem {
+        let text = format!(
+            "name = \"t\"\n[robot]\nmax_speed = {v}\nacceleration = {a}\nbraking = {b}\ncontrol_period = {dt}\n\
+             latency = 1\nclearance = 0.0\n[controller]\nassumed_obstacle_speed = 0.2\nreaction_radius = 1.4\n\
+             danger_rule = \"paper\"\nbuffer = 0.1\nwrong_assumption_brake = true\n[environment]\n\
+             obstacle_speed = 0.15\ninitial_gap = 10.0\n"
+        );
+        Problem::from_toml_str(&text, "test").expect("valid")
+    }
+
+    /// `drive(k)` past the cruise onset is the cruise state moved on: exactly what iterating
+    /// the step function gives. `rest(t)` is exactly braking through the step function.
+    #[test]
+    fn drive_profile_and_rest_are_the_step_function() {
+        for (v, a, b, dt) in [
+            (0.2, 0.1, 0.05, 0.1),
+            (0.8, 0.3, 0.5, 0.07),
+            (1.3, 2.9, 0.7, 0.2),
+        ] {
+            let dec = Decomposition::new(&problem(v, a, b, dt));
+            let p = &dec.params;
+            let mut state = RobotState {
+                position: Exact::ZERO,
+                speed: Exact::ZERO,
+                mode: Mode::Accelerate,
+            };
+            for k in 0..dec.cruise_from + 60 {
+                let d = dec.drive(k);
+                assert_eq!(
+                    (&d.position, &d.speed),
+                    (&state.position, &state.speed),
+                    "step {k}"
+                );
+                if k > 0 && k % 7 == 0 {
+                    let (t_rest, p_rest) = dec.rest(k);
+                    let mut s = RobotState {
+                        mode: Mode::Brake,
+                        ..state.clone()
+                    };
+                    let mut time = Exact::from(k) * p.dt.clone();
+                    while s.mode != Mode::Stop {
+                        let m = robot_motion(p, &s);
+                        time += m.moving_for.clone();
+                        s = m.end;
+                    }
+                    assert_eq!(
+                        (t_rest, p_rest),
+                        (time, s.position),
+                        "rest after braking at {k}"
+                    );
+                }
+                state = robot_motion(p, &state).end;
+            }
+        }
+    }
+}

@@ -389,3 +389,85 @@ impl<N: Scalar> World<N> {
         record
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Problem;
+    use crate::num::Exact;
+
+    fn params() -> Params<Exact> {
+        Problem::from_toml_str(
+            "name = \"t\"\n[robot]\nmax_speed = 0.8\nacceleration = 0.3\nbraking = 0.5\ncontrol_period = 0.1\n\
+             latency = 2\nclearance = 0.0\n[controller]\nassumed_obstacle_speed = 0.2\nreaction_radius = 1.4\n\
+             danger_rule = \"kinematic\"\nbuffer = 0.1\nwrong_assumption_brake = true\n[environment]\n\
+             obstacle_speed = 0.3\ninitial_gap = 3.0\n",
+            "test",
+        )
+        .expect("valid")
+        .params()
+    }
+
+    /// A robot that stops inside a period has moved v²/(2b) and rests at v/b, not v·dt.
+    #[test]
+    fn braking_stops_inside_the_period_exactly() {
+        let p = params();
+        let v = exact_of(0.03);
+        let m = robot_motion(
+            &p,
+            &RobotState {
+                position: Exact::ZERO,
+                speed: v.clone(),
+                mode: Mode::Brake,
+            },
+        );
+        assert_eq!(m.end.speed, Exact::ZERO);
+        assert_eq!(m.end.mode, Mode::Stop);
+        assert_eq!(m.moving_for, v.clone() / p.b.clone());
+        assert_eq!(
+            m.end.position,
+            v.clone() * v / (Exact::from(2) * p.b.clone())
+        );
+    }
+
+    fn exact_of(x: f64) -> Exact {
+        crate::num::exact_decimal(x)
+    }
+
+    /// The facts the analyser relies on, along arbitrary obstacle behaviours: the gap never
+    /// grows, the speed stays in [0, v_max] and never falls before braking, braking latches.
+    #[test]
+    fn gap_never_grows_and_braking_latches() {
+        let p = params();
+        for pattern in 0..24u32 {
+            let mut world = World::new(p.clone());
+            let mut braked = false;
+            let mut last_speed = Exact::ZERO;
+            for k in 0..400 {
+                let w = if (pattern >> (k % 5)) & 1 == 1 {
+                    p.W.clone()
+                } else {
+                    Exact::ZERO
+                };
+                let before = world.gap().clone();
+                let rec = world.step(w);
+                assert!(rec.end_gap <= before, "gap grew at step {k}");
+                let v = &rec.motion.end.speed;
+                assert!(*v >= Exact::ZERO && *v <= p.v_max);
+                if braked {
+                    assert!(
+                        matches!(rec.robot.mode, Mode::Brake | Mode::Stop),
+                        "brake latched"
+                    );
+                } else if rec.robot.mode != Mode::Brake {
+                    assert!(rec.robot.speed >= last_speed, "speed fell before braking");
+                }
+                braked |= rec.robot.mode == Mode::Brake;
+                last_speed = rec.robot.speed.clone();
+                if world.stopped() {
+                    break;
+                }
+            }
+        }
+    }
+}
