@@ -72,15 +72,15 @@ pub fn premises(problem: &Problem) -> Vec<Premise> {
         ),
         p(
             "latency",
-            "observations are at most this many control periods old",
+            "observations lag behind by at most",
             f64::from(r.latency),
-            "periods",
+            "control periods",
         ),
-        // The model's obstacle starts at the initial gap: inside the reaction radius when that
-        // is smaller, and then that is what the proof covers.
+        // The reaction radius, or the initial gap when that is smaller: the model's obstacle
+        // starts there, inside the area, and then that is what the proof covers.
         p(
             "first_detection_gap",
-            "an obstacle is first seen at a gap of at least the reaction radius (or the initial gap, if smaller)",
+            "an obstacle is first seen at a gap of at least",
             problem
                 .controller
                 .reaction_radius

@@ -233,7 +233,10 @@ fn summary(cert: &Certificate) -> String {
     );
     s += "  premises:\n";
     for p in &cert.premises {
-        s += &format!("    {}: {} {} {}\n", p.name, p.description, p.bound, p.unit);
+        s += &format!(
+            "    {:<21} {} {} {}\n",
+            p.name, p.description, p.bound, p.unit
+        );
     }
     s
 }
