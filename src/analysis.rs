@@ -475,16 +475,16 @@ fn replay_witness(
     let params = &dec.params;
     let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
     speeds.resize(max_steps, quantised(&params.W));
-    let run = simulate::replay_exact(params, &speeds, max_steps, !piece.has_objective());
-    speeds.truncate(run.records.len());
+    let replay = simulate::replay(params, &speeds, max_steps, !piece.has_objective());
+    speeds.truncate(replay.periods());
     Witness {
         piece,
         shift,
         margin,
         obstacle_speeds: speeds,
-        collides: run.outcome.collided,
-        separation: run.outcome.rest_gap.as_ref().map(f64_at_most),
-        steps: simulate::trace(params, &run),
+        collides: replay.collided(),
+        separation: replay.rest_gap().as_ref().map(f64_at_most),
+        steps: replay.trace(),
     }
 }
 

@@ -338,11 +338,11 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }
-    let run = simulate::replay_exact(&params, &w.obstacle_speeds, w.obstacle_speeds.len(), false);
-    if run.records.len() != w.obstacle_speeds.len() {
+    let replay = simulate::replay(&params, &w.obstacle_speeds, w.obstacle_speeds.len(), false);
+    if replay.periods() != w.obstacle_speeds.len() {
         return invalid("witness lists speeds past the end of its run");
     }
-    let steps = simulate::trace(&params, &run);
+    let steps = replay.trace();
     let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
     let same = steps.len() == w.steps.len()
         && steps.iter().zip(&w.steps).all(|(a, b)| {
@@ -357,10 +357,10 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     if !same {
         return invalid("witness trace differs from its exact replay");
     }
-    if run.outcome.collided != w.collides {
+    if replay.collided() != w.collides {
         return invalid("witness collision flag differs from its exact replay");
     }
-    let sep = run.outcome.rest_gap.as_ref().map(f64_at_most);
+    let sep = replay.rest_gap().as_ref().map(f64_at_most);
     if sep.is_some() != w.separation.is_some()
         || sep
             .zip(w.separation)
@@ -383,5 +383,5 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     if cert.never_stops && (w.separation.is_some() || !w.collides) {
         return invalid("never_stops requires a witness that collides without stopping");
     }
-    Ok(run.outcome.collided)
+    Ok(replay.collided())
 }

@@ -58,6 +58,7 @@ pub mod num;
 pub mod output;
 pub mod program;
 pub mod radius;
+pub mod rational;
 pub mod report;
 pub mod schedule;
 pub mod semantics;

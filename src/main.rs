@@ -287,29 +287,29 @@ fn simulate_cmd(
                 cert_path.display()
             )
         })?;
-        let run = simulate::replay_exact(
+        let replay = simulate::replay(
             &exact,
             &witness.obstacle_speeds,
             witness.obstacle_speeds.len(),
             false,
         );
-        let rows = simulate::trace(&exact, &run);
+        let rows = replay.trace();
         if let Some(path) = trace {
             write_atomic(path, trace_for_path(path, &rows, "0").as_bytes())
                 .with_context(|| format!("writing {}", path.display()))?;
         }
-        let sep = run.outcome.rest_gap.as_ref().map(|g| g.to_f64().value());
+        let sep = replay.rest_gap().map(|g| g.to_f64().value());
         if json {
             outln!(
                 "{}",
-                serde_json::json!({"replay": cert_path, "collided": run.outcome.collided, "separation": sep, "steps": rows.len()})
+                serde_json::json!({"replay": cert_path, "collided": replay.collided(), "separation": sep, "steps": rows.len()})
             );
         } else {
             outln!(
                 "replayed {}: {} periods, {}, separation at rest {}",
                 cert_path.display(),
-                run.records.len(),
-                if run.outcome.collided {
+                replay.periods(),
+                if replay.collided() {
                     "COLLISION"
                 } else {
                     "no collision"
@@ -318,7 +318,7 @@ fn simulate_cmd(
                     .unwrap_or_else(|| "- (never stopped)".into())
             );
         }
-        return Ok(ExitCode::from(u8::from(run.outcome.collided)));
+        return Ok(ExitCode::from(u8::from(replay.collided())));
     }
     if runs == 0 {
         anyhow::bail!("--runs must be at least 1");

@@ -198,7 +198,40 @@ impl Problem {
     }
 }
 
+impl<N: Scalar> StepConstants<N> {
+    fn map<M>(&self, f: &impl Fn(&N) -> M) -> StepConstants<M> {
+        StepConstants {
+            half: f(&self.half),
+            v_max_dt: f(&self.v_max_dt),
+            a_dt: f(&self.a_dt),
+            half_a_dt2: f(&self.half_a_dt2),
+            b_dt: f(&self.b_dt),
+            half_b_dt2: f(&self.half_b_dt2),
+        }
+    }
+}
+
 impl<N: Scalar> Params<N> {
+    /// The same problem in another number type, converting every number with `f`.
+    pub fn map<M>(&self, f: impl Fn(&N) -> M) -> Params<M> {
+        Params {
+            v_max: f(&self.v_max),
+            a: f(&self.a),
+            b: f(&self.b),
+            dt: f(&self.dt),
+            L: self.L,
+            clearance: f(&self.clearance),
+            V_a: f(&self.V_a),
+            rho: f(&self.rho),
+            rule: self.rule,
+            buffer: f(&self.buffer),
+            wrong_assumption_brake: self.wrong_assumption_brake,
+            W: f(&self.W),
+            g0: f(&self.g0),
+            k: self.k.map(&f),
+        }
+    }
+
     /// Whether the wrong-assumption guard can ever fire: it is on and the environment can
     /// move faster than the controller assumes (W > V_a).
     pub fn wrong_assumption_active(&self) -> bool {

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::model::Params;
 use crate::num::{Exact, Scalar, exact_float};
+use crate::rational::Rational;
 use crate::semantics::{BrakeReason, Mode, StepRecord, World};
 
 /// One row of a trace: the state at a control-period start, or at the instant the robot
@@ -119,6 +120,61 @@ pub fn replay_exact(
         max_steps,
         stop_at_collision,
     )
+}
+
+/// A witness replay: exact like [`replay_exact`], computed with [`Rational`] (machine words
+/// while the numbers fit, several times faster on long runs).
+#[derive(Clone, Debug)]
+pub struct Replay {
+    /// The run, in fast exact numbers.
+    pub run: Run<Rational>,
+    /// The parameters it ran with.
+    pub params: Params<Rational>,
+}
+
+impl Replay {
+    /// Whether the robot was moving with gap ≤ clearance at some instant.
+    pub fn collided(&self) -> bool {
+        self.run.outcome.collided
+    }
+
+    /// Gap when the robot came to rest.
+    pub fn rest_gap(&self) -> Option<Exact> {
+        self.run.outcome.rest_gap.as_ref().map(Rational::to_exact)
+    }
+
+    /// Periods run.
+    pub fn periods(&self) -> usize {
+        self.run.records.len()
+    }
+
+    /// The trace rows.
+    pub fn trace(&self) -> Vec<TraceRow> {
+        trace(&self.params, &self.run)
+    }
+}
+
+/// Replays obstacle speeds exactly, as [`replay_exact`] does, in [`Rational`] numbers.
+pub fn replay(
+    params: &Params<Exact>,
+    speeds: &[f64],
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Replay {
+    let params: Params<Rational> = params.map(Rational::from_exact);
+    let tail = params.W.clone();
+    let run = run(
+        params.clone(),
+        |k| {
+            speeds
+                .get(k)
+                .map(|&w| Rational::from_exact(&exact_float(w)))
+                .unwrap_or_else(|| tail.clone())
+        },
+        max_steps,
+        stop_at_collision,
+    );
+    Replay { run, params }
 }
 
 /// The trace of a run: a row at every period start, and one at the instant the robot came

@@ -979,3 +979,49 @@ fn a_faster_obstacle_is_never_safer_regression() {
         f(&lb)
     );
 }
+
+/// The fast exact replay (machine-word rationals with big-integer fallback) that witnesses
+/// and `check` use equals the all-big-rational replay, number for number, on the witnesses
+/// of problems across every rule, latency and both sides of the safe radius.
+#[test]
+fn fast_replay_equals_big_rational_replay() {
+    use safereach::simulate::{replay, replay_exact, trace};
+    let mut compared = 0;
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..3 {
+            for (w, rho) in [(0.15, 1.4), (0.3, 0.9), (0.25, 1.6), (0.6, 0.5)] {
+                let mut p = Problem::load(std::path::Path::new(concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/problems/seed.toml"
+                )))
+                .expect("seed loads");
+                p.controller.danger_rule = rule;
+                p.robot.latency = latency;
+                p.environment.obstacle_speed = w;
+                p.controller.reaction_radius = rho;
+                p.environment.initial_gap = 3.0;
+                let a = analyse(&p).expect("analyses");
+                let Some(wit) = a.witness else { continue };
+                let params = p.params::<safereach::num::Exact>();
+                let n = wit.obstacle_speeds.len();
+                let big = replay_exact(&params, &wit.obstacle_speeds, n, false);
+                let fast = replay(&params, &wit.obstacle_speeds, n, false);
+                assert_eq!(fast.periods(), big.records.len());
+                assert_eq!(fast.collided(), big.outcome.collided);
+                assert_eq!(fast.rest_gap(), big.outcome.rest_gap);
+                for (f, b) in fast.run.records.iter().zip(&big.records) {
+                    assert_eq!(f.end_gap.to_exact(), b.end_gap);
+                    assert_eq!(f.motion.end.position.to_exact(), b.motion.end.position);
+                    assert_eq!(f.brake, b.brake);
+                }
+                let (rows_fast, rows_big) = (fast.trace(), trace(&params, &big));
+                assert_eq!(rows_fast.len(), rows_big.len());
+                for (x, y) in rows_fast.iter().zip(&rows_big) {
+                    assert!((x.gap - y.gap).abs() <= 1e-12 && (x.t - y.t).abs() <= 1e-12);
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 30, "only {compared} witnesses compared");
+}
