@@ -69,8 +69,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::model::{Params, Problem};
-use crate::num::{Exact, ceil};
+use crate::num::{Exact, Scalar, ceil};
 use crate::program::{Program, Row, Var};
+use crate::rational::Rational;
 use crate::semantics::{Mode, RobotState, danger_distance, robot_motion};
 
 /// How a piece's schedule ends.
@@ -141,21 +142,45 @@ pub struct Decomposition {
 
 /// Time and distance the robot needs to stop when it brakes from speed `v`, by iterating the
 /// step function in Brake.
+/// (In [`Rational`]: exact, and machine-word fast while the numbers fit.)
 fn stopping(p: &Params<Exact>, v: Exact) -> (Exact, Exact) {
+    let p: Params<Rational> = p.map(Rational::from_exact);
     let mut state = RobotState {
-        position: Exact::ZERO,
-        speed: v,
+        position: Rational::zero(),
+        speed: Rational::from_exact(&v),
         mode: Mode::Brake,
     };
-    let mut time = Exact::ZERO;
+    let mut time = Rational::zero();
     loop {
-        let motion = robot_motion(p, &state);
-        time += motion.moving_for.clone();
+        let motion = robot_motion(&p, &state);
+        time = time + motion.moving_for.clone();
         let stopped = motion.end.mode == Mode::Stop;
         state = motion.end;
         if stopped {
-            return (time, state.position);
+            return (time.to_exact(), state.position.to_exact());
         }
+    }
+}
+
+/// The drive profile up to the cruise onset, through the step function (in [`Rational`]).
+fn drive_profile(params: &Params<Exact>) -> Vec<RobotState<Exact>> {
+    let p: Params<Rational> = params.map(Rational::from_exact);
+    let mut state = RobotState {
+        position: Rational::zero(),
+        speed: Rational::zero(),
+        mode: Mode::Accelerate,
+    };
+    let mut profile = Vec::new();
+    loop {
+        profile.push(RobotState {
+            position: state.position.to_exact(),
+            speed: state.speed.to_exact(),
+            mode: state.mode,
+        });
+        if state.speed >= p.v_max {
+            return profile;
+        }
+        state = robot_motion(&p, &state).end;
     }
 }
 
@@ -167,15 +192,7 @@ impl Decomposition {
 
     /// As [`Decomposition::new`], from exact parameters.
     pub fn from_params(params: Params<Exact>) -> Self {
-        let mut profile = vec![RobotState {
-            position: Exact::ZERO,
-            speed: Exact::ZERO,
-            mode: Mode::Accelerate,
-        }];
-        while profile.last().expect("nonempty").speed < params.v_max {
-            let motion = robot_motion(&params, profile.last().expect("nonempty"));
-            profile.push(motion.end);
-        }
+        let profile = drive_profile(&params);
         let mut d = Decomposition {
             cruise_stop: stopping(&params, params.v_max.clone()),
             cruise_from: profile.len() - 1,
