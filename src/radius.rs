@@ -226,6 +226,15 @@ fn finish(
     let value = 0.5 * (outside + inside);
     let toward_inside = if inside > outside { 1.0 } else { -1.0 };
     let certified = probe(base, param, value + toward_inside * PROBE_OFFSET)?;
+    // Nothing is reported certified unless its certificate passes the exact check.
+    if certified.verdict == Verdict::Certified
+        && let Err(e) =
+            crate::certificate::check(&crate::certificate::Certificate::from_analysis(&certified))
+    {
+        return Err(AnalysisError::Inconsistent(format!(
+            "the certificate beside the boundary does not verify: {e}"
+        )));
+    }
     let below = value - toward_inside * PROBE_OFFSET;
     let refuted = if below >= 0.0 {
         Some(probe(base, param, below)?)
