@@ -17,7 +17,7 @@ use crate::lp::{self, LpOutcome};
 use crate::model::{Params, Problem};
 use crate::num::{Exact, exact_float, f64_at_most};
 use crate::program::{Program, ProofKind};
-use crate::schedule::{Decomposition, Ending, Piece};
+use crate::schedule::{Decomposition, Piece};
 use crate::simulate::{self, TraceRow};
 
 /// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
@@ -553,9 +553,4 @@ fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Vec<f64> {
 /// Replays a witness's obstacle speeds exactly (used by `check` and by tests).
 pub fn replay(params: &Params<Exact>, speeds: &[f64]) -> simulate::Run<Exact> {
     simulate::replay_exact(params, speeds, speeds.len(), false)
-}
-
-/// Whether a piece ends in a pass-through (a robot that never brakes).
-pub fn is_pass_through(piece: &Piece) -> bool {
-    piece.ending == Ending::PassThrough
 }

@@ -779,6 +779,23 @@ impl Monitor {
         self.checks[check.index()] += 1;
     }
 
+    /// The control-period premise between two observation times of obstacle `id`.
+    fn check_period(&mut self, from: f64, to: f64, id: u32) {
+        let dt = self.bounds.control_period;
+        let step = to - from;
+        self.check(Check::ControlPeriod);
+        if step > dt + RELATIVE_TOLERANCE * dt + rounding(from, to) {
+            self.raise(
+                Check::ControlPeriod,
+                Some(to),
+                Some(id),
+                Some(step),
+                Some(dt),
+                None,
+            );
+        }
+    }
+
     #[cold]
     #[inline(never)]
     fn raise(
@@ -927,17 +944,7 @@ impl Monitor {
                 // The first sample of a new instant: the robot's checks.
                 if let Some(r) = previous {
                     let step = s.t - r.t;
-                    self.check(Check::ControlPeriod);
-                    if step > dt + RELATIVE_TOLERANCE * dt + rounding(r.t, s.t) {
-                        self.raise(
-                            Check::ControlPeriod,
-                            Some(s.t),
-                            Some(id),
-                            Some(step),
-                            Some(dt),
-                            None,
-                        );
-                    }
+                    self.check_period(r.t, s.t, id);
                     if r.mode == Some(Mode::Brake) && r.v > 0.0 {
                         self.check(Check::BrakingDeceleration);
                         // A robot at rest at the next instant decelerated fast enough (it may
@@ -989,18 +996,7 @@ impl Monitor {
             }
         } else if track.instant + 1 < self.instant {
             // It missed at least one instant: its own observations are a period apart.
-            let step = s.t - track.t;
-            self.check(Check::ControlPeriod);
-            if step > dt + RELATIVE_TOLERANCE * dt + rounding(track.t, s.t) {
-                self.raise(
-                    Check::ControlPeriod,
-                    Some(s.t),
-                    Some(id),
-                    Some(step),
-                    Some(dt),
-                    None,
-                );
-            }
+            self.check_period(track.t, s.t, id);
         }
         if let Some(obs_t) = s.obstacle_t {
             self.saw_obs_t = true;

@@ -142,14 +142,4 @@ impl Program {
             least > row.b || (row.strict && least == row.b)
         })
     }
-
-    /// The objective at a point, exactly.
-    pub fn value_at(&self, x: &[Exact]) -> Option<Exact> {
-        let c = self.objective.as_ref()?;
-        let mut total = self.constant.clone();
-        for (cj, xj) in c.iter().zip(x) {
-            total += cj * xj;
-        }
-        Some(total)
-    }
 }

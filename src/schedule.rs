@@ -69,7 +69,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::model::{Params, Problem};
-use crate::num::{Exact, Scalar, ceil};
+use crate::num::{Exact, Scalar};
 use crate::program::{Program, Row, Var};
 use crate::rational::Rational;
 use crate::semantics::{Mode, RobotState, danger_distance, robot_motion};
@@ -232,7 +232,7 @@ impl Decomposition {
         let reach = if wa { 2 } else { 1 };
         let merge_at = if p.W > Exact::ZERO {
             let need =
-                usize::try_from(ceil(&(p.v_max.clone() / p.W.clone()))).unwrap_or(usize::MAX);
+                usize::try_from((p.v_max.clone() / p.W.clone()).ceil()).unwrap_or(usize::MAX);
             let t = d.cruise_from.max(need).max(1).saturating_add(reach + l);
             Some(t.max(d.first_brake)).filter(|&t| t < d.last_brake)
         } else {
@@ -305,7 +305,7 @@ impl Decomposition {
                 return k;
             }
         }
-        let k = self.cruise_from + usize::try_from(ceil(&steps)).unwrap_or(usize::MAX).max(1);
+        let k = self.cruise_from + usize::try_from(steps.ceil()).unwrap_or(usize::MAX).max(1);
         debug_assert!(reached(k, self) && !reached(k - 1, self));
         k
     }
