@@ -9,8 +9,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use safereach::analysis::{Options, WitnessPolicy, analyse, analyse_with};
-use safereach::certificate::{Certificate, check};
-use safereach::model::{DangerRule, Problem};
+use safereach::core::model::{DangerRule, Problem};
+use safereach::proof::certificate::{Certificate, check};
 
 /// Median time per call of `f`, over `rounds` rounds of `per_round` calls.
 fn median(rounds: usize, per_round: usize, mut f: impl FnMut()) -> Duration {

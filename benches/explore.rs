@@ -8,10 +8,10 @@
 
 use std::time::Instant;
 
-use safereach::explore::{self, Options, SpeedSet};
-use safereach::model::Problem;
-use safereach::num::Exact;
-use safereach::uppaal;
+use safereach::core::model::Problem;
+use safereach::core::num::Exact;
+use safereach::crosscheck::explore::{self, Options, SpeedSet};
+use safereach::crosscheck::uppaal;
 
 /// A field of /proc/self/status in kB (0 where the file does not exist).
 fn status_kb(field: &str) -> u64 {

@@ -20,11 +20,11 @@ use std::time::{Duration, Instant};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use safereach::analysis::analyse;
-use safereach::certificate::Certificate;
-use safereach::model::Problem;
+use safereach::core::model::Problem;
+use safereach::core::semantics::Mode;
 use safereach::monitor::trace::{Decoded, Decoder, Format};
 use safereach::monitor::{Monitor, Sample};
-use safereach::semantics::Mode;
+use safereach::proof::certificate::Certificate;
 
 const OBSTACLES: u32 = 4;
 

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use safereach::analysis::Verdict;
-use safereach::sweep::{Grid, Shard};
+use safereach::analysis::sweep::{Grid, Shard};
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

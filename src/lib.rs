@@ -30,8 +30,8 @@
 
 //! ```
 //! use safereach::analysis::{Verdict, analyse};
-//! use safereach::certificate::{Certificate, check};
-//! use safereach::model::Problem;
+//! use safereach::proof::certificate::{Certificate, check};
+//! use safereach::core::model::Problem;
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"))?;
@@ -48,20 +48,9 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "solver")]
 pub mod analysis;
-pub mod certificate;
-pub mod explore;
-pub mod lp;
-pub mod model;
+pub mod core;
+pub mod crosscheck;
 pub mod monitor;
-pub mod num;
-pub mod output;
-pub mod program;
-pub mod radius;
-pub mod rational;
-pub mod report;
-pub mod schedule;
-pub mod semantics;
-pub mod simulate;
-pub mod sweep;
-pub mod uppaal;
+pub mod proof;

@@ -10,11 +10,11 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config as ProptestConfig, RngSeed};
+use safereach::analysis::monte_carlo;
 use safereach::analysis::{Analysis, PieceResult, Verdict, analyse, replay};
-use safereach::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
-use safereach::num::{Exact, exact_decimal, exact_float};
-use safereach::program::ProofKind;
-use safereach::simulate::monte_carlo;
+use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::num::{Exact, exact_decimal, exact_float};
+use safereach::proof::program::ProofKind;
 
 // ---------------------------------------------------------------------------------------------
 // Problems built in code
@@ -853,7 +853,7 @@ fn refuted_problems_have_colliding_witnesses() {
         let run = replay(&p.params(), &w.obstacle_speeds);
         assert!(run.outcome.collided, "{spec:?}");
         // The same behaviour in floats collides as well (the simulator agrees).
-        let fast = safereach::simulate::run(
+        let fast = safereach::core::simulate::run(
             p.params::<f64>(),
             |k| w.obstacle_speeds.get(k).copied().unwrap_or(spec.w),
             w.obstacle_speeds.len(),
@@ -985,7 +985,7 @@ fn a_faster_obstacle_is_never_safer_regression() {
 /// of problems across every rule, latency and both sides of the safe radius.
 #[test]
 fn fast_replay_equals_big_rational_replay() {
-    use safereach::simulate::{replay, replay_exact, trace};
+    use safereach::core::simulate::{replay, replay_exact, trace};
     let mut compared = 0;
     for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
         for latency in 0..3 {
@@ -1002,7 +1002,7 @@ fn fast_replay_equals_big_rational_replay() {
                 p.environment.initial_gap = 3.0;
                 let a = analyse(&p).expect("analyses");
                 let Some(wit) = a.witness else { continue };
-                let params = p.params::<safereach::num::Exact>();
+                let params = p.params::<safereach::core::num::Exact>();
                 let n = wit.obstacle_speeds.len();
                 let big = replay_exact(&params, &wit.obstacle_speeds, n, false);
                 let fast = replay(&params, &wit.obstacle_speeds, n, false);

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
-use safereach::model::{Controller, DangerRule, Environment, Problem, ProblemError, Robot};
+use safereach::core::model::{Controller, DangerRule, Environment, Problem, ProblemError, Robot};
 
 /// A valid problem (the seed's numbers); the cases below break it one edit at a time.
 const BASE: &str = r#"name = "base"

@@ -1,4 +1,4 @@
-//! An independent oracle for the schedule reduction (`safereach::schedule`).
+//! An independent oracle for the schedule reduction (`safereach::proof::schedule`).
 //!
 //! The library reduces all obstacle behaviours to a handful of *pieces* using monotonicity
 //! (one row "o[T-1] > theta" instead of one per step), aggregates the unobserved prefix into
@@ -7,7 +7,7 @@
 //! those reductions, and holds `safereach::analysis::analyse` against it on small problems:
 //!
 //! - the drive profile P_k, v_k is the robot's own step function
-//!   ([`safereach::semantics::robot_motion`]) iterated in exact rationals; d_coll is written
+//!   ([`safereach::core::semantics::robot_motion`]) iterated in exact rationals; d_coll is written
 //!   out here from DESIGN.md §1 (not taken from the library);
 //! - every brake step T from L until the robot alone has reached the obstacle's start, and,
 //!   with the wrong-assumption guard active, every entry step E ≤ T, is its own program;
@@ -17,7 +17,7 @@
 //! - "never brakes" programs: no guard fires at any step before J and o_J ≤ 0, for every J;
 //!   one feasible such program means the robot can collide without braking (s* = −∞).
 //!
-//! Every program is solved by Clarabel ([`safereach::lp::solve`], closed rows); an exact
+//! Every program is solved by Clarabel ([`safereach::analysis::lp::solve`], closed rows); an exact
 //! forward interval pass over the partial sums of the speeds (exact for a chain of
 //! difference constraints) skips programs that are infeasible before the solver is asked,
 //! which only saves time. The oracle's s* is the least optimum over the feasible programs.
@@ -37,13 +37,13 @@ use std::time::Instant;
 
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use safereach::analysis::lp::{self, LpOutcome};
 use safereach::analysis::{Analysis, Verdict, analyse};
-use safereach::lp::{self, LpOutcome};
-use safereach::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
-use safereach::num::{Exact, exact_float, f64_at_most};
-use safereach::program::{Program, Row, Var};
-use safereach::schedule::Ending;
-use safereach::semantics::{Mode, RobotState, World, robot_motion};
+use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::num::{Exact, exact_float, f64_at_most};
+use safereach::core::semantics::{Mode, RobotState, World, robot_motion};
+use safereach::proof::program::{Program, Row, Var};
+use safereach::proof::schedule::Ending;
 
 /// Agreement tolerance on s* (m).
 const TOL: f64 = 1e-7;

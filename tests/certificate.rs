@@ -5,11 +5,11 @@
 use proptest::prelude::*;
 use proptest::test_runner::{Config as ProptestConfig, RngSeed};
 use safereach::analysis::{Verdict, analyse};
-use safereach::certificate::{Certificate, check, premises};
-use safereach::model::{Controller, DangerRule, Environment, Problem, Robot};
-use safereach::num::f64_at_most;
-use safereach::program::ProofKind;
-use safereach::schedule::Decomposition;
+use safereach::core::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::core::num::f64_at_most;
+use safereach::proof::certificate::{Certificate, check, premises};
+use safereach::proof::program::ProofKind;
+use safereach::proof::schedule::Decomposition;
 
 // ---------------------------------------------------------------------------------------------
 // Problems built in code

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use predicates::prelude::*;
 use safereach::analysis::Verdict;
-use safereach::certificate::Certificate;
-use safereach::model::Problem;
+use safereach::core::model::Problem;
+use safereach::proof::certificate::Certificate;
 use serde_json::Value;
 use tempfile::TempDir;
 

@@ -1,4 +1,4 @@
-//! The exhaustive explorer (`safereach::explore`) held against the analyser and against an
+//! The exhaustive explorer (`safereach::crosscheck::explore`) held against the analyser and against an
 //! unabstracted search (DESIGN.md §5: "an exhaustive explorer over a finite speed set can
 //! only find behaviours the analyser already covers").
 //!
@@ -20,13 +20,13 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use safereach::analysis::{Analysis, Verdict, analyse};
-use safereach::explore::{
+use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::num::{Exact, exact_decimal, exact_float};
+use safereach::core::semantics::{Mode, World};
+use safereach::core::simulate;
+use safereach::crosscheck::explore::{
     self, Exploration, ExploreError, ExploreVerdict, FiniteModel, Options, SpeedSet, Status,
 };
-use safereach::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
-use safereach::num::{Exact, exact_decimal, exact_float};
-use safereach::semantics::{Mode, World};
-use safereach::simulate;
 use serde_json::Value;
 
 // ---------------------------------------------------------------------------------------------

@@ -10,16 +10,16 @@ use std::path::Path;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use safereach::analysis::{self, Verdict as Proved, analyse};
-use safereach::certificate::Certificate;
-use safereach::model::{Params, Problem};
+use safereach::core::model::{Params, Problem};
+use safereach::core::num::Exact;
+use safereach::core::output::{trace_csv, trace_jsonl};
+use safereach::core::semantics::Mode;
+use safereach::core::simulate::{self, TraceRow};
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, parse_f64};
 use safereach::monitor::{
     Check, Detail, Event, Field, Monitor, MonitorError, Sample, Status, Verdict,
 };
-use safereach::num::Exact;
-use safereach::output::{trace_csv, trace_jsonl};
-use safereach::semantics::Mode;
-use safereach::simulate::{self, TraceRow};
+use safereach::proof::certificate::Certificate;
 
 // ------------------------------------------------------------------------------------------
 // Counting allocations of the current thread (tests run in parallel threads)
@@ -95,7 +95,10 @@ fn rows_of(params: &Params<f64>, speed: impl FnMut(usize) -> f64) -> Vec<TraceRo
 
 /// Monte Carlo run `i` (as `simulate` does it).
 fn random_rows(params: &Params<f64>, seed: u64, i: usize) -> Vec<TraceRow> {
-    rows_of(params, simulate::random_speeds(params.W, seed, i))
+    rows_of(
+        params,
+        safereach::analysis::random_speeds(params.W, seed, i),
+    )
 }
 
 /// The trace's samples for obstacle 0; `obstacle_v` (the speed over the period ending at

@@ -2,10 +2,10 @@
 //! plain bisection over full analyses, monotonicity in W, and radius/max-speed inversion.
 
 use proptest::prelude::*;
+use safereach::analysis::radius::{max_speed, safe_radius};
 use safereach::analysis::{Verdict, analyse};
-use safereach::certificate::{Certificate, check};
-use safereach::model::{Controller, DangerRule, Environment, Problem, Robot};
-use safereach::radius::{max_speed, safe_radius};
+use safereach::core::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::proof::certificate::{Certificate, check};
 
 #[allow(clippy::too_many_arguments)]
 fn problem(

@@ -4,9 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
+use safereach::analysis::sweep::{self, Grid, Shard};
 use safereach::analysis::{Verdict, analyse};
-use safereach::num::f64_at_most;
-use safereach::sweep::{self, Grid, Shard};
+use safereach::core::num::f64_at_most;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

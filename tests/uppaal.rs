@@ -1,4 +1,4 @@
-//! The UPPAAL export (`safereach::uppaal`, `safereach export-uppaal`).
+//! The UPPAAL export (`safereach::crosscheck::uppaal`, `safereach export-uppaal`).
 //!
 //! UPPAAL is not available here, so the export is checked three ways:
 //! - structure: the XML is well formed and has the shape UPPAAL reads (an `nta` root with a
@@ -8,7 +8,7 @@
 //! - numbers: the constants in the file, divided by the stated scale, are the problem's exact
 //!   numbers (the grid is exact, nothing is rounded);
 //! - behaviour: the network the XML is printed from, run by the interpreter
-//!   ([`safereach::uppaal::explore_grid`]), answers what the explorer answers on the same
+//!   ([`safereach::crosscheck::uppaal::explore_grid`]), answers what the explorer answers on the same
 //!   finite model — verdict, shortest collision period and minimum separation — over every
 //!   danger rule, latencies 0–3 and W below and above V_a. Broken variants of the network are
 //!   caught by the interpreter (it has teeth).
@@ -18,10 +18,10 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use roxmltree::{Document, Node};
-use safereach::explore::{self, ExploreVerdict, Options, SpeedSet};
-use safereach::model::{Controller, DangerRule, Environment, Problem, Robot};
-use safereach::num::Exact;
-use safereach::uppaal::{self, Decl, UppaalError, UppaalModel};
+use safereach::core::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::core::num::Exact;
+use safereach::crosscheck::explore::{self, ExploreVerdict, Options, SpeedSet};
+use safereach::crosscheck::uppaal::{self, Decl, UppaalError, UppaalModel};
 
 fn problem_file(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -31,7 +31,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
 use super::{Detail, Field, ObstacleId, Sample};
-use crate::semantics::Mode;
+use crate::core::semantics::Mode;
 
 /// A trace's format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

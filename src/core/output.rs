@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use crate::simulate::TraceRow;
+use crate::core::simulate::TraceRow;
 
 /// Writes `bytes` to `path` via a temporary file in the same directory and a rename.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

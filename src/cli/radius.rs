@@ -6,10 +6,10 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use safereach::certificate::Certificate;
-use safereach::model::Problem;
-use safereach::output::write_atomic;
-use safereach::radius::{self, Boundary, Parameter};
+use safereach::analysis::radius::{self, Boundary, Parameter};
+use safereach::core::model::Problem;
+use safereach::core::output::write_atomic;
+use safereach::proof::certificate::Certificate;
 
 /// Arguments of `safereach radius`.
 #[derive(clap::Args)]
@@ -79,7 +79,10 @@ fn side(a: &safereach::analysis::Analysis, param: Parameter) -> Side {
         at,
         verdict: a.verdict.as_str(),
         min_separation: a.min_separation,
-        lower_bound: a.lower_bound.as_ref().map(safereach::num::f64_at_most),
+        lower_bound: a
+            .lower_bound
+            .as_ref()
+            .map(safereach::core::num::f64_at_most),
         witness_collides: a.witness.as_ref().map(|w| w.collides),
     }
 }
@@ -104,7 +107,7 @@ fn answer(problem: &Problem, b: &Boundary) -> Answer {
 
 fn certificate_text(a: &safereach::analysis::Analysis) -> Result<String> {
     let cert = Certificate::from_analysis(a);
-    safereach::certificate::check(&cert)
+    safereach::proof::certificate::check(&cert)
         .map_err(|e| anyhow::anyhow!("internal error: certificate does not verify: {e}"))?;
     Ok(serde_json::to_string_pretty(&cert)? + "\n")
 }

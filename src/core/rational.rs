@@ -13,7 +13,7 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use dashu_int::{IBig, UBig};
 
-use crate::num::{Exact, Scalar, exact_decimal};
+use crate::core::num::{Exact, Scalar, exact_decimal};
 
 /// An exact rational: small (`n/d`, `d > 0`, in lowest terms) or big.
 #[derive(Clone, Debug)]

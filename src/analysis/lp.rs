@@ -10,7 +10,7 @@ use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
-use crate::program::Program;
+use crate::proof::program::Program;
 
 /// What the solver said about a program.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,7 +58,7 @@ pub fn solve(program: &Program, margin: f64) -> LpOutcome {
 
 fn solve_with(program: &Program, margin: f64, tight: bool) -> LpOutcome {
     let n = program.n();
-    let f = |x: &crate::num::Exact| x.to_f64().value();
+    let f = |x: &crate::core::num::Exact| x.to_f64().value();
     // Fixed variables become equality rows (a box with no interior stalls an interior-point
     // method); they come first, in Clarabel's zero cone.
     let fixed: Vec<usize> = (0..n)

@@ -8,9 +8,9 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use safereach::analysis::Verdict;
-use safereach::output::write_atomic;
-use safereach::report;
-use safereach::sweep::{self, CellResult, Grid, Shard};
+use safereach::analysis::report;
+use safereach::analysis::sweep::{self, CellResult, Grid, Shard};
+use safereach::core::output::write_atomic;
 
 /// Arguments of `safereach sweep`.
 #[derive(clap::Args)]

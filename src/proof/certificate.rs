@@ -9,7 +9,7 @@
 //! 2. the problem must be valid; its pieces are rebuilt from it, and the proofs must list
 //!    exactly those pieces in order (a dropped, added or reordered piece is rejected);
 //! 3. each proof's bound is recomputed in exact rationals from its multipliers
-//!    ([`Program::bound`](crate::program::Program::bound)) and must equal the stated one;
+//!    ([`Program::bound`](crate::proof::program::Program::bound)) and must equal the stated one;
 //!    infeasibility proofs must be positive;
 //! 4. the witness's obstacle speeds are replayed exactly through the semantics and must
 //!    reproduce the stated trace, collision and separation;
@@ -19,12 +19,12 @@
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::analysis::{Analysis, PieceResult, REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
-use crate::model::Problem;
-use crate::num::{Exact, exact_decimal, f64_at_most};
-use crate::program::ProofKind;
-use crate::schedule::{Decomposition, Piece};
-use crate::simulate;
+use crate::core::model::Problem;
+use crate::core::num::{Exact, exact_decimal, f64_at_most};
+use crate::core::simulate;
+use crate::proof::program::ProofKind;
+use crate::proof::schedule::{Decomposition, Piece};
+use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
 
 /// The format tag written into every certificate.
 pub const FORMAT: &str = "safereach-certificate/1";
@@ -143,45 +143,6 @@ pub struct Certificate {
 }
 
 impl Certificate {
-    /// The certificate of an analysis.
-    pub fn from_analysis(a: &Analysis) -> Self {
-        let proofs = a
-            .outcomes
-            .iter()
-            .map(|o| match &o.result {
-                PieceResult::Proved { kind, z, bound, .. } => Proof {
-                    piece: o.piece,
-                    kind: Some(kind.clone()),
-                    multipliers: z.clone(),
-                    bound: Some(f64_at_most(bound)),
-                },
-                PieceResult::Unproved { .. } => Proof {
-                    piece: o.piece,
-                    kind: None,
-                    multipliers: Vec::new(),
-                    bound: None,
-                },
-            })
-            .collect();
-        let mut cert = Certificate {
-            format: FORMAT.into(),
-            verdict: a.verdict,
-            min_separation: a.min_separation,
-            never_stops: a.never_stops,
-            lower_bound: a.lower_bound.as_ref().map(f64_at_most),
-            clearance: a.problem.robot.clearance,
-            premises: premises(&a.problem),
-            witness: a.witness.clone(),
-            problem: a.problem.clone(),
-            pieces: a.outcomes.len(),
-            programs_solved: a.programs_solved,
-            proofs,
-            digest: String::new(),
-        };
-        cert.digest = cert.compute_digest();
-        cert
-    }
-
     /// SHA-256 of the certificate with an empty digest field.
     pub fn compute_digest(&self) -> String {
         let mut copy = self.clone();
@@ -334,7 +295,7 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     if let Some(k) = w
         .obstacle_speeds
         .iter()
-        .position(|&s| s.is_nan() || s < 0.0 || crate::num::exact_float(s) > *bound)
+        .position(|&s| s.is_nan() || s < 0.0 || crate::core::num::exact_float(s) > *bound)
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }

@@ -16,8 +16,8 @@ use std::collections::VecDeque;
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::{DangerRule, Params};
-use crate::num::Scalar;
+use crate::core::model::{DangerRule, Params};
+use crate::core::num::Scalar;
 
 /// The robot's automaton location (the seed's robot template).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -393,8 +393,8 @@ impl<N: Scalar> World<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Problem;
-    use crate::num::Exact;
+    use crate::core::model::Problem;
+    use crate::core::num::Exact;
 
     fn params() -> Params<Exact> {
         Problem::from_toml_str(
@@ -431,7 +431,7 @@ mod tests {
     }
 
     fn exact_of(x: f64) -> Exact {
-        crate::num::exact_decimal(x)
+        crate::core::num::exact_decimal(x)
     }
 
     /// The facts the analyser relies on, along arbitrary obstacle behaviours: the gap never

@@ -1,7 +1,7 @@
 //! The finite model as UPPAAL timed automata, on an exact integer grid.
 //!
 //! The seed paper modelled its robot and obstacle as UPPAAL timed automata and checked a
-//! TCTL safety query. [`export`] writes the same finite model the explorer ([`crate::explore`])
+//! TCTL safety query. [`export`] writes the same finite model the explorer ([`crate::crosscheck::explore`])
 //! searches — the problem plus a finite obstacle speed set — as a UPPAAL network (XML) and the
 //! passive-safety query (`.q`), for users who own UPPAAL. UPPAAL is not available here; the
 //! explorer with the same `--speeds` is the reference for what UPPAAL answers.
@@ -46,7 +46,7 @@
 //!   came to rest.
 //! - Query: `A[] not ((v > 0 && gap <= CLEARANCE) || (rested && restGap < CLEARANCE))` —
 //!   never moving with gap ≤ clearance; a robot that comes to rest inside a period is judged
-//!   by its gap at that instant (< clearance), exactly as [`crate::semantics::World::step`].
+//!   by its gap at that instant (< clearance), exactly as [`crate::core::semantics::World::step`].
 //!   The network stops (the obstacle blocks) once the query is violated, which keeps every
 //!   variable in its declared range.
 //!
@@ -66,10 +66,10 @@ use std::fmt::Write as _;
 use dashu_int::ops::Gcd;
 use dashu_int::{IBig, UBig};
 
-use crate::explore::{ExploreVerdict, Options, SpeedSet, show_exact};
-use crate::model::{DangerRule, Params, Problem};
-use crate::num::Exact;
-use crate::semantics::{Mode, RobotState, robot_motion};
+use crate::core::model::{DangerRule, Params, Problem};
+use crate::core::num::Exact;
+use crate::core::semantics::{Mode, RobotState, robot_motion};
+use crate::crosscheck::explore::{ExploreVerdict, Options, SpeedSet, show_exact};
 
 /// Most drive-profile speeds (control periods to reach v_max, plus one) the export enumerates.
 pub const MAX_PROFILE: usize = 100_000;

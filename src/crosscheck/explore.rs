@@ -39,7 +39,7 @@
 //!
 //! 1. **The robot's absolute position.** [`World::step`] uses the position only through the
 //!    distance travelled in the step, `end.position − start.position`, which in exact
-//!    rationals is the same number from every start ([`crate::semantics::robot_motion`]
+//!    rationals is the same number from every start ([`crate::core::semantics::robot_motion`]
 //!    adds the travelled distance to the start; in floats it would not be). Guards read
 //!    gaps, never positions. The robot's speed and mode and the current gap stay, exactly:
 //!    they determine every later gap.
@@ -83,10 +83,10 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::{Params, Problem};
-use crate::num::{Exact, exact_decimal};
-use crate::semantics::{Mode, StepRecord, World, danger_distance};
-use crate::simulate::{self, Run, TraceRow};
+use crate::core::model::{Params, Problem};
+use crate::core::num::{Exact, exact_decimal};
+use crate::core::semantics::{Mode, StepRecord, World, danger_distance};
+use crate::core::simulate::{self, Run, TraceRow};
 
 /// Default state budget: under 1 GB of memory at the measured 320–450 bytes per state.
 pub const DEFAULT_MAX_STATES: usize = 2_000_000;

@@ -8,9 +8,9 @@
 use std::fmt::Write as _;
 
 use crate::analysis::Verdict;
-use crate::model::Problem;
-use crate::radius;
-use crate::sweep::{CellResult, Grid};
+use crate::analysis::radius;
+use crate::analysis::sweep::{CellResult, Grid};
+use crate::core::model::Problem;
 
 const SPEED_KEY: &str = "environment.obstacle_speed";
 const RADIUS_KEY: &str = "controller.reaction_radius";

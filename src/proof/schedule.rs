@@ -7,7 +7,7 @@
 //! o_k = g_{k−L} and the speed w_{k−L−1} (0 before the first step). Thresholds:
 //! d_k = d_coll(v_k) (∞ for the `area` rule) and θ_k = min(ρ, d_k).
 //!
-//! Two monotonicity facts (see [`crate::semantics`]) carry the whole reduction:
+//! Two monotonicity facts (see [`crate::core::semantics`]) carry the whole reduction:
 //! g_k is nonincreasing in k for every behaviour, and v_k, hence d_k and θ_k, is
 //! nondecreasing along the drive profile.
 //!
@@ -68,11 +68,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::{Params, Problem};
-use crate::num::{Exact, Scalar};
-use crate::program::{Program, Row, Var};
-use crate::rational::Rational;
-use crate::semantics::{Mode, RobotState, danger_distance, robot_motion};
+use crate::core::model::{Params, Problem};
+use crate::core::num::{Exact, Scalar};
+use crate::core::rational::Rational;
+use crate::core::semantics::{Mode, RobotState, danger_distance, robot_motion};
+use crate::proof::program::{Program, Row, Var};
 
 /// How a piece's schedule ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

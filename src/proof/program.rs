@@ -18,7 +18,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::num::{Exact, exact_float};
+use crate::core::num::{Exact, exact_float};
 
 /// One decision variable with its box.
 #[derive(Clone, Debug, PartialEq)]

@@ -23,11 +23,11 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::{
     self, Analysis, AnalysisError, Options, PieceResult, Verdict, WitnessPolicy,
 };
-use crate::model::{DangerRule, Problem};
-use crate::num::{Exact, exact_decimal};
-use crate::program::ProofKind;
-use crate::schedule::Decomposition;
-use crate::semantics::danger_distance;
+use crate::core::model::{DangerRule, Problem};
+use crate::core::num::{Exact, exact_decimal};
+use crate::core::semantics::danger_distance;
+use crate::proof::program::ProofKind;
+use crate::proof::schedule::Decomposition;
 
 /// Half-width of the final bracket around the boundary.
 pub const TOLERANCE: f64 = 1e-10;
@@ -228,8 +228,9 @@ fn finish(
     let certified = probe(base, param, value + toward_inside * PROBE_OFFSET)?;
     // Nothing is reported certified unless its certificate passes the exact check.
     if certified.verdict == Verdict::Certified
-        && let Err(e) =
-            crate::certificate::check(&crate::certificate::Certificate::from_analysis(&certified))
+        && let Err(e) = crate::proof::certificate::check(
+            &crate::proof::certificate::Certificate::from_analysis(&certified),
+        )
     {
         return Err(AnalysisError::Inconsistent(format!(
             "the certificate beside the boundary does not verify: {e}"

@@ -2,7 +2,7 @@
 //!
 //! A [`Problem`] is what a user writes in TOML; [`Params`] is the same problem as numbers of
 //! a chosen [`Scalar`] type, after validation. Exact parameters are the decimals the file
-//! states (see [`crate::num::exact_decimal`]), so `0.1` s is one tenth of a second.
+//! states (see [`crate::core::num::exact_decimal`]), so `0.1` s is one tenth of a second.
 //!
 //! # Reading problems
 //!
@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
 
-use crate::num::Scalar;
+use crate::core::num::Scalar;
 
 /// A verification problem: one robot, its controller, one oncoming obstacle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

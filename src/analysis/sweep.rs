@@ -26,9 +26,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::{self, Options, Verdict, WitnessPolicy};
-use crate::model::{Problem, ProblemError};
-use crate::num::f64_at_most;
-use crate::simulate;
+use crate::core::model::{Problem, ProblemError};
+use crate::core::num::f64_at_most;
 
 /// Grid-file errors (all name the file).
 #[derive(Debug, thiserror::Error)]
@@ -268,7 +267,8 @@ impl Grid {
                 serde_json::to_value(v).unwrap_or(serde_json::Value::Null),
             );
         }
-        let mc = (runs > 0).then(|| simulate::monte_carlo(&problem.params::<f64>(), runs, seed));
+        let mc =
+            (runs > 0).then(|| crate::analysis::monte_carlo(&problem.params::<f64>(), runs, seed));
         Ok(CellResult {
             cell,
             axes,

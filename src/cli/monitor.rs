@@ -31,11 +31,11 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use safereach::certificate::Certificate;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
 use safereach::monitor::{
     DEFAULT_MAX_OBSTACLES, Detail, Event, Monitor, PremiseSummary, Status, Summary, Verdict,
 };
+use safereach::proof::certificate::Certificate;
 
 /// Arguments of `safereach monitor`.
 #[derive(clap::Args)]

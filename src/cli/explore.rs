@@ -10,13 +10,15 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use serde_json::{Value, json};
 
-use safereach::explore::{self, Exploration, ExploreVerdict, Options, SpeedSet, show_exact};
-use safereach::model::Problem;
-use safereach::num::Exact;
-use safereach::output::{trace_csv, write_atomic};
-use safereach::semantics::Mode;
-use safereach::simulate::TraceRow;
-use safereach::uppaal::{self, GridExploration};
+use safereach::core::model::Problem;
+use safereach::core::num::Exact;
+use safereach::core::output::{trace_csv, write_atomic};
+use safereach::core::semantics::Mode;
+use safereach::core::simulate::TraceRow;
+use safereach::crosscheck::explore::{
+    self, Exploration, ExploreVerdict, Options, SpeedSet, show_exact,
+};
+use safereach::crosscheck::uppaal::{self, GridExploration};
 
 /// Arguments of `safereach explore`.
 #[derive(clap::Args)]

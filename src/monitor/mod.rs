@@ -17,9 +17,9 @@
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! use safereach::certificate::Certificate;
+//! use safereach::proof::certificate::Certificate;
 //! use safereach::monitor::{Monitor, Sample, Verdict};
-//! use safereach::semantics::Mode;
+//! use safereach::core::semantics::Mode;
 //!
 //! let text = std::fs::read_to_string("cert.json")?;
 //! let cert: Certificate = serde_json::from_str(&text)?;
@@ -104,9 +104,9 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::analysis;
-use crate::certificate::{self, Certificate};
-use crate::semantics::Mode;
+use crate::core::semantics::Mode;
+use crate::proof::certificate::{self, Certificate};
+use crate::proof::verdict;
 
 pub mod trace;
 
@@ -572,7 +572,7 @@ pub enum MonitorError {
         "the certificate's verdict is {}, not certified: there is no safety proof whose premises could be monitored",
         .0.as_str()
     )]
-    NotCertified(analysis::Verdict),
+    NotCertified(verdict::Verdict),
     /// A premise the monitor needs is not in the certificate.
     #[error("the certificate lists no `{0}` premise")]
     MissingPremise(&'static str),
@@ -680,7 +680,7 @@ impl Monitor {
         reserve: usize,
     ) -> Result<Monitor, MonitorError> {
         let report = certificate::check(cert)?;
-        if report.verdict != analysis::Verdict::Certified {
+        if report.verdict != verdict::Verdict::Certified {
             return Err(MonitorError::NotCertified(report.verdict));
         }
         let bound = |check: Check| -> Result<f64, MonitorError> {

@@ -11,44 +11,16 @@
 //! Verdicts: `certified` iff every piece is proved and the least bound exceeds the
 //! clearance; `refuted` iff a witness, replayed exactly, collides; else `inconclusive`.
 
-use serde::{Deserialize, Serialize};
-
-use crate::lp::{self, LpOutcome};
-use crate::model::{Params, Problem};
-use crate::num::{Exact, exact_float, f64_at_most};
-use crate::program::{Program, ProofKind};
-use crate::schedule::{Decomposition, Piece};
-use crate::simulate::{self, TraceRow};
+use crate::analysis::lp::{self, LpOutcome};
+use crate::core::model::{Params, Problem};
+use crate::core::num::{Exact, exact_float, f64_at_most};
+use crate::core::simulate;
+use crate::proof::program::{Program, ProofKind};
+use crate::proof::schedule::{Decomposition, Piece};
+pub use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
 
 /// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
 pub const WITNESS_MARGIN: f64 = 1e-7;
-/// A witness must replay to within this of its piece's optimum (m).
-pub const REPLAY_TOLERANCE: f64 = 1e-6;
-/// A witness's trace rows must match their exact replay to within this (m, s, m/s).
-pub const TRACE_TOLERANCE: f64 = 1e-9;
-
-/// The three-valued answer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Verdict {
-    /// Rigorous lower bound on s* above the clearance.
-    Certified,
-    /// A concrete behaviour collides (replayed exactly).
-    Refuted,
-    /// Neither.
-    Inconclusive,
-}
-
-impl Verdict {
-    /// The word used in output.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Verdict::Certified => "certified",
-            Verdict::Refuted => "refuted",
-            Verdict::Inconclusive => "inconclusive",
-        }
-    }
-}
 
 /// What was established about one piece.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,25 +53,6 @@ pub struct PieceOutcome {
     pub piece: Piece,
     /// Its result.
     pub result: PieceResult,
-}
-
-/// A concrete worst-case behaviour, replayed exactly.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Witness {
-    /// The piece it comes from.
-    pub piece: Piece,
-    /// For a merged piece, the number of whole steps the behaviour is shifted by.
-    pub shift: usize,
-    /// Margin its strict rows were kept inside (m).
-    pub margin: f64,
-    /// The obstacle's speed in each control period (after the last: W).
-    pub obstacle_speeds: Vec<f64>,
-    /// The replay collides.
-    pub collides: bool,
-    /// Gap when the robot came to rest (None: it never stopped before colliding).
-    pub separation: Option<f64>,
-    /// One row at every period start plus the instant the robot came to rest.
-    pub steps: Vec<TraceRow>,
 }
 
 /// The analyser's full answer.
@@ -497,7 +450,7 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
         p.dt.to_f64().value(),
     );
     Params {
-        k: crate::model::StepConstants::of(&v_max, &a, &b, &dt),
+        k: crate::core::model::StepConstants::of(&v_max, &a, &b, &dt),
         v_max,
         a,
         b,

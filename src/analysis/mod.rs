@@ -1,0 +1,13 @@
+//! The analyser: schedule pieces -> programs -> Clarabel -> bounds, witnesses and verdicts;
+//! and what is built on it: safe radius and largest safe speed, sweeps and reports.
+
+mod analyse;
+mod certify;
+pub mod lp;
+mod monte_carlo;
+pub mod radius;
+pub mod report;
+pub mod sweep;
+
+pub use analyse::*;
+pub use monte_carlo::{MonteCarlo, monte_carlo, random_speeds};

@@ -1,0 +1,9 @@
+//! The bottom layer: numbers, exact rationals, the problem model and the one semantics every
+//! engine runs. Nothing here knows about programs, solvers, certificates or monitors.
+
+pub mod model;
+pub mod num;
+pub mod output;
+pub mod rational;
+pub mod semantics;
+pub mod simulate;

@@ -1,0 +1,5 @@
+//! Independent engines that hold the analyser to account: the exhaustive explorer over
+//! finite speed sets, and the UPPAAL export with its interpreter.
+
+pub mod explore;
+pub mod uppaal;

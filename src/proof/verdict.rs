@@ -1,0 +1,54 @@
+//! What an analysis concludes and what `check` re-derives: the three-valued verdict, and the
+//! worst-case witness with the tolerances its replay is held to.
+
+use serde::{Deserialize, Serialize};
+
+use crate::core::simulate::TraceRow;
+use crate::proof::schedule::Piece;
+
+/// A witness must replay to within this of its piece's optimum (m).
+pub const REPLAY_TOLERANCE: f64 = 1e-6;
+/// A witness's trace rows must match their exact replay to within this (m, s, m/s).
+pub const TRACE_TOLERANCE: f64 = 1e-9;
+
+/// The three-valued answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// Rigorous lower bound on s* above the clearance.
+    Certified,
+    /// A concrete behaviour collides (replayed exactly).
+    Refuted,
+    /// Neither.
+    Inconclusive,
+}
+
+impl Verdict {
+    /// The word used in output.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Certified => "certified",
+            Verdict::Refuted => "refuted",
+            Verdict::Inconclusive => "inconclusive",
+        }
+    }
+}
+
+/// A concrete worst-case behaviour, replayed exactly.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Witness {
+    /// The piece it comes from.
+    pub piece: Piece,
+    /// For a merged piece, the number of whole steps the behaviour is shifted by.
+    pub shift: usize,
+    /// Margin its strict rows were kept inside (m).
+    pub margin: f64,
+    /// The obstacle's speed in each control period (after the last: W).
+    pub obstacle_speeds: Vec<f64>,
+    /// The replay collides.
+    pub collides: bool,
+    /// Gap when the robot came to rest (None: it never stopped before colliding).
+    pub separation: Option<f64>,
+    /// One row at every period start plus the instant the robot came to rest.
+    pub steps: Vec<TraceRow>,
+}
