@@ -515,8 +515,8 @@ impl Oracle {
         let vars = (0..nv)
             .map(|j| Var {
                 name: format!("w[{j}]"),
-                lower: Exact::ZERO,
-                upper: p.W.clone(),
+                lower: Exact::ZERO.into(),
+                upper: p.W.clone().into(),
             })
             .collect();
         let rows = spec
@@ -553,7 +553,7 @@ impl Oracle {
                 Row {
                     label,
                     a,
-                    b,
+                    b: b.into(),
                     strict: *strict,
                 }
             })
@@ -570,12 +570,7 @@ impl Oracle {
             }
             Goal::NeverBrakes => (None, Exact::ZERO),
         };
-        Program {
-            vars,
-            rows,
-            objective,
-            constant,
-        }
+        Program::linear(vars, rows, objective, constant.into())
     }
 
     /// Exact feasibility of a spec's closed rows. Every row bounds a partial sum

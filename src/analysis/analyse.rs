@@ -384,7 +384,7 @@ fn speeds_from_point(
     let m = dec.anchor(piece);
     let n = piece.brake - p.L;
     let var = &program.vars[0];
-    let u = clamp(exact_float(x[0]), &var.lower, &var.upper);
+    let u = clamp(exact_float(x[0]), &var.lower.value, &var.upper.value);
     let shift = dec.shift_for(piece, &u);
     let m2 = m + shift;
     let mut speeds = Vec::with_capacity(n + shift + 32);
@@ -412,7 +412,7 @@ fn speeds_from_point(
         };
     }
     for (j, var) in program.vars.iter().enumerate().skip(1).take(n - m) {
-        let w = clamp(exact_float(x[j]), &var.lower, &var.upper);
+        let w = clamp(exact_float(x[j]), &var.lower.value, &var.upper.value);
         speeds.push(quantised(&w));
     }
     (shift, speeds)

@@ -10,7 +10,8 @@ use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
-use crate::proof::program::Program;
+use crate::core::num::Exact;
+use crate::proof::program::{Cone, Program};
 
 /// What the solver said about a program.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,53 +58,20 @@ pub fn solve(program: &Program, margin: f64) -> LpOutcome {
 }
 
 fn solve_with(program: &Program, margin: f64, tight: bool) -> LpOutcome {
+    if !program.is_well_formed() {
+        return LpOutcome::Failed {
+            status: "malformed program: cone blocks do not cover its rows".into(),
+        };
+    }
+    let data = ConicData::of(program, margin);
     let n = program.n();
-    let f = |x: &crate::core::num::Exact| x.to_f64().value();
-    // Fixed variables become equality rows (a box with no interior stalls an interior-point
-    // method); they come first, in Clarabel's zero cone.
-    let fixed: Vec<usize> = (0..n)
-        .filter(|&j| program.vars[j].lower == program.vars[j].upper)
-        .collect();
-    let free: Vec<usize> = (0..n)
-        .filter(|&j| program.vars[j].lower != program.vars[j].upper)
-        .collect();
-    let mut dense: Vec<Vec<f64>> = Vec::new();
-    let mut rhs: Vec<f64> = Vec::new();
-    for &j in &fixed {
-        let mut row = vec![0.0; n];
-        row[j] = 1.0;
-        dense.push(row);
-        rhs.push(f(&program.vars[j].lower));
-    }
-    let structural = dense.len();
-    for row in &program.rows {
-        dense.push(row.a.iter().map(f).collect());
-        let b = f(&row.b);
-        rhs.push(if row.strict { b - margin } else { b });
-    }
-    for &j in &free {
-        let mut up = vec![0.0; n];
-        up[j] = 1.0;
-        dense.push(up);
-        rhs.push(f(&program.vars[j].upper));
-        let mut low = vec![0.0; n];
-        low[j] = -1.0;
-        dense.push(low);
-        rhs.push(-f(&program.vars[j].lower));
-    }
-    let m = dense.len();
-    let a = csc(&dense, m, n);
+    let a = csc(&data.rows, data.rows.len(), n);
     let p = CscMatrix::zeros((n, n));
     let q: Vec<f64> = match &program.objective {
         Some(c) => c.iter().map(f).collect(),
         None => vec![0.0; n],
     };
-    let mut cones = Vec::new();
-    if structural > 0 {
-        cones.push(SupportedConeT::ZeroConeT(structural));
-    }
-    cones.push(SupportedConeT::NonnegativeConeT(m - structural));
-    let mut solver = match DefaultSolver::new(&p, &q, &a, &rhs, &cones, settings(tight)) {
+    let mut solver = match DefaultSolver::new(&p, &q, &a, &data.rhs, &data.cones, settings(tight)) {
         Ok(s) => s,
         Err(e) => {
             return LpOutcome::Failed {
@@ -113,10 +81,10 @@ fn solve_with(program: &Program, margin: f64, tight: bool) -> LpOutcome {
     };
     solver.solve();
     let sol = &solver.solution;
-    let rows = structural..structural + program.rows.len();
+    let rows = data.structural..data.structural + program.rows.len();
     match sol.status {
         SolverStatus::Solved => {
-            let value = sol.obj_val + f(&program.constant);
+            let value = sol.obj_val + f(&program.constant.value);
             LpOutcome::Optimal {
                 x: sol.x.clone(),
                 z: sol.z[rows].to_vec(),
@@ -138,6 +106,83 @@ fn solve_with(program: &Program, margin: f64, tight: bool) -> LpOutcome {
         | SolverStatus::CallbackTerminated => LpOutcome::Failed {
             status: format!("{:?}", sol.status),
         },
+    }
+}
+
+fn f(x: &Exact) -> f64 {
+    x.to_f64().value()
+}
+
+/// A program in Clarabel's form `A·x + s = b, s ∈ K`, as floats: fixed variables first (a
+/// box with no interior stalls an interior-point method, so they become equalities in the
+/// zero cone), then the program's rows in their cone blocks (strict rows moved `margin`
+/// inside), then the boxes of the free variables as nonnegative rows.
+struct ConicData {
+    rows: Vec<Vec<f64>>,
+    rhs: Vec<f64>,
+    cones: Vec<SupportedConeT<f64>>,
+    /// Index of the program's first row.
+    structural: usize,
+}
+
+impl ConicData {
+    fn of(program: &Program, margin: f64) -> Self {
+        let n = program.n();
+        let unit = |j: usize, sign: f64| {
+            let mut row = vec![0.0; n];
+            row[j] = sign;
+            row
+        };
+        let fixed = |j: &usize| program.vars[*j].lower == program.vars[*j].upper;
+        let mut data = ConicData {
+            rows: Vec::new(),
+            rhs: Vec::new(),
+            cones: Vec::new(),
+            structural: 0,
+        };
+        for j in (0..n).filter(fixed) {
+            data.rows.push(unit(j, 1.0));
+            data.rhs.push(f(&program.vars[j].lower.value));
+        }
+        data.structural = data.rows.len();
+        if data.structural > 0 {
+            data.cones.push(SupportedConeT::ZeroConeT(data.structural));
+        }
+        for row in &program.rows {
+            data.rows.push(row.a.iter().map(f).collect());
+            let b = f(&row.b.value);
+            data.rhs.push(if row.strict { b - margin } else { b });
+        }
+        for block in &program.cones {
+            data.push_cone(match block.cone {
+                Cone::Zero => SupportedConeT::ZeroConeT(block.rows),
+                Cone::Nonnegative => SupportedConeT::NonnegativeConeT(block.rows),
+                Cone::SecondOrder => SupportedConeT::SecondOrderConeT(block.rows),
+            });
+        }
+        let boxes = data.rows.len();
+        for j in (0..n).filter(|j| !fixed(j)) {
+            data.rows.push(unit(j, 1.0));
+            data.rhs.push(f(&program.vars[j].upper.value));
+            data.rows.push(unit(j, -1.0));
+            data.rhs.push(-f(&program.vars[j].lower.value));
+        }
+        if data.rows.len() > boxes {
+            data.push_cone(SupportedConeT::NonnegativeConeT(data.rows.len() - boxes));
+        }
+        data
+    }
+
+    /// Appends a cone, merging consecutive nonnegative blocks into one (what Clarabel is
+    /// handed does not depend on how the program happened to group its rows).
+    fn push_cone(&mut self, cone: SupportedConeT<f64>) {
+        if let (Some(SupportedConeT::NonnegativeConeT(k)), SupportedConeT::NonnegativeConeT(more)) =
+            (self.cones.last_mut(), &cone)
+        {
+            *k += more;
+            return;
+        }
+        self.cones.push(cone);
     }
 }
 

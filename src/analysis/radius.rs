@@ -10,8 +10,8 @@
 //!
 //! m is piecewise affine. With the multipliers z of the piece that attains the bound held
 //! fixed, that piece's bound is an affine function of ρ or W (only right-hand sides, boxes
-//! and the objective constant move), valid for every value, so its exact slope — computed
-//! from the same multipliers at a nearby parameter, in rationals — gives a Newton step that
+//! and the objective constant move), valid for every value, so its exact slope — read off
+//! the bound's affine form ([`crate::proof::program::Program::bound_affine`]) — gives a Newton step that
 //! lands on the root as soon as the attaining piece no longer changes. A bracket
 //! [not certified, certified] is kept throughout, and a step that would leave it, or a
 //! stretch without a slope (a robot that may never brake has no finite bound), falls back
@@ -25,9 +25,9 @@ use crate::analysis::{
 };
 use crate::core::model::{DangerRule, Problem};
 use crate::core::num::{Exact, exact_decimal};
+use crate::core::parameter::Parameter as Named;
 use crate::core::semantics::danger_distance;
 use crate::proof::program::ProofKind;
-use crate::proof::schedule::Decomposition;
 
 /// Half-width of the final bracket around the boundary.
 pub const TOLERANCE: f64 = 1e-10;
@@ -45,6 +45,14 @@ pub enum Parameter {
 }
 
 impl Parameter {
+    /// The named parameter it moves.
+    fn named(self) -> Named {
+        match self {
+            Parameter::ReactionRadius => Named::ReactionRadius,
+            Parameter::ObstacleSpeed => Named::ObstacleSpeed,
+        }
+    }
+
     fn get(self, p: &Problem) -> f64 {
         match self {
             Parameter::ReactionRadius => p.controller.reaction_radius,
@@ -111,13 +119,14 @@ fn evaluate(
     )?;
     let clearance = ex(problem.robot.clearance);
     let margin = a.lower_bound.as_ref().map(|b| b.clone() - clearance);
-    let slope = margin.as_ref().and_then(|_| slope(&a, param, x));
+    let slope = margin.as_ref().and_then(|_| slope(&a, param));
     Ok(Eval { margin, slope })
 }
 
-/// d(bound)/d(parameter) of the piece attaining the lower bound, its multipliers held fixed.
-fn slope(a: &Analysis, param: Parameter, x: f64) -> Option<Exact> {
-    let (piece, z, bound) = a
+/// d(bound)/d(parameter) of the piece attaining the lower bound, its multipliers held fixed:
+/// read exactly off the bound's affine form (see [`crate::proof::program`]).
+fn slope(a: &Analysis, param: Parameter) -> Option<Exact> {
+    let (piece, z, _) = a
         .outcomes
         .iter()
         .filter_map(|o| match &o.result {
@@ -130,12 +139,8 @@ fn slope(a: &Analysis, param: Parameter, x: f64) -> Option<Exact> {
             _ => None,
         })
         .min_by(|p, q| p.2.cmp(q.2))?;
-    let step = (x.abs() * 1e-9).max(1e-12);
-    let x2 = x + step;
-    let moved = Decomposition::new(&param.set(&a.problem, x2));
-    let piece2 = moved.pieces.iter().find(|p| **p == piece)?;
-    let bound2 = moved.program(piece2).bound(z, true)?;
-    Some((bound2 - bound.clone()) / (ex(x2) - ex(x)))
+    let bound = a.decomposition.program(&piece).bound_affine(z, true)?;
+    Some(bound.slope(param.named()))
 }
 
 /// Newton root of the affine model at `x`, if it lies strictly inside the bracket.

@@ -4,6 +4,7 @@
 pub mod model;
 pub mod num;
 pub mod output;
+pub mod parameter;
 pub mod rational;
 pub mod semantics;
 pub mod simulate;

@@ -199,7 +199,7 @@ impl Problem {
 }
 
 impl<N: Scalar> StepConstants<N> {
-    fn map<M>(&self, f: &impl Fn(&N) -> M) -> StepConstants<M> {
+    pub(crate) fn map<M>(&self, f: &impl Fn(&N) -> M) -> StepConstants<M> {
         StepConstants {
             half: f(&self.half),
             v_max_dt: f(&self.v_max_dt),

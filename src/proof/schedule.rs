@@ -70,6 +70,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::core::model::{Params, Problem};
 use crate::core::num::{Exact, Scalar};
+use crate::core::parameter::{ParamAffine, symbolic};
 use crate::core::rational::Rational;
 use crate::core::semantics::{Mode, RobotState, danger_distance, robot_motion};
 use crate::proof::program::{Program, Row, Var};
@@ -397,74 +398,88 @@ impl Decomposition {
         )
     }
 
-    /// The linear program of a piece (see the module docs for its rows).
+    /// The linear program of a piece (see the module docs for its rows). Its right-hand
+    /// sides, boxes and objective constant are affine in the named parameters, through the
+    /// same formulas evaluated over [`ParamAffine`].
     pub fn program(&self, piece: &Piece) -> Program {
-        let p = &self.params;
-        let l = p.L;
-        let t = piece.brake;
-        let n = t - l;
+        let s = symbolic(&self.params);
         let m = self.anchor(piece);
-        let pos = |k: usize| self.position(k);
-        let zero = Exact::ZERO;
-        // Variables: u = g_m, then w_m .. w_{n-1}.
-        let hi = p.g0.clone() - pos(m);
+        let n = piece.brake - self.params.L;
+        let mut vars = self.variables(&s, piece, m, n);
+        let mut rows = Vec::new();
+        self.schedule_rows(&s, piece, m, &mut vars, &mut rows);
+        let g_n = self.gap(m, n, vars.len());
+        self.ending_rows(&s, piece, m, &g_n, &mut rows);
+        let (objective, constant) = if piece.has_objective() {
+            // Gap at rest = g_n − (P_rest − P_n) − W·(t_rest − n·dt).
+            let (t_rest, p_rest) = self.rest(piece.brake);
+            let tail = t_rest - Exact::from(n) * self.params.dt.clone();
+            let moved = ParamAffine::constant(g_n.constant.clone() - (p_rest - self.position(n)));
+            (Some(g_n.coef), moved - s.W.scaled(&tail))
+        } else {
+            (None, ParamAffine::constant(Exact::ZERO))
+        };
+        Program::linear(vars, rows, objective, constant)
+    }
+
+    /// Variables u = g_m, then w_m .. w_{n−1}, with their boxes.
+    fn variables(&self, s: &Params<ParamAffine>, piece: &Piece, m: usize, n: usize) -> Vec<Var> {
+        let hi = s.g0.clone() - ParamAffine::constant(self.position(m));
         let lo = if piece.merged {
-            zero.clone()
+            ParamAffine::constant(Exact::ZERO)
         } else if piece.early {
             // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
-            self.fastest_approach(m).1
+            self.fastest_approach_affine(s, m).1
         } else {
-            hi.clone() - p.W.clone() * p.dt.clone() * Exact::from(m)
+            hi.clone() - s.W.scaled(&(self.params.dt.clone() * Exact::from(m)))
         };
         let mut vars = vec![Var {
             name: format!("g[{m}]"),
             lower: lo,
             upper: hi,
         }];
-        for j in m..n {
-            vars.push(Var {
-                name: format!("w[{j}]"),
-                lower: zero.clone(),
-                upper: p.W.clone(),
-            });
+        vars.extend((m..n).map(|j| Var {
+            name: format!("w[{j}]"),
+            lower: ParamAffine::constant(Exact::ZERO),
+            upper: s.W.clone(),
+        }));
+        vars
+    }
+
+    /// The gap g_i as an affine expression over the variables of a piece anchored at m:
+    /// g_i = u − dt·Σ_{m≤j<i} w_j − (P_i − P_m).
+    fn gap(&self, m: usize, i: usize, nv: usize) -> Affine {
+        let mut coef = vec![Exact::ZERO; nv];
+        coef[0] = Exact::ONE;
+        for c in coef.iter_mut().skip(1).take(i.saturating_sub(m)) {
+            *c = -self.params.dt.clone();
         }
+        Affine {
+            coef,
+            constant: self.position(m) - self.position(i),
+        }
+    }
+
+    /// Rows that fix when the guard logic begins: no fire before T, and for in-area pieces
+    /// the entry and the observed speeds (≤ V_a) while in the area.
+    fn schedule_rows(
+        &self,
+        s: &Params<ParamAffine>,
+        piece: &Piece,
+        m: usize,
+        vars: &mut [Var],
+        rows: &mut Vec<Row>,
+    ) {
+        let l = self.params.L;
+        let t = piece.brake;
         let nv = vars.len();
-        let w_var = |j: usize| 1 + j - m;
-        let gap = |i: usize| -> Affine {
-            let mut coef = vec![zero.clone(); nv];
-            coef[0] = Exact::ONE;
-            for j in m..i {
-                coef[w_var(j)] = -p.dt.clone();
-            }
-            Affine {
-                coef,
-                constant: pos(m) - pos(i),
-            }
-        };
-        let mut rows = Vec::new();
-        let at_most = |rows: &mut Vec<Row>, label: String, e: &Affine, bound: Exact| {
-            rows.push(Row {
-                label,
-                a: e.coef.clone(),
-                b: bound - e.constant.clone(),
-                strict: false,
-            });
-        };
-        let above = |rows: &mut Vec<Row>, label: String, e: &Affine, bound: Exact| {
-            rows.push(Row {
-                label,
-                a: e.coef.iter().map(|c| -c.clone()).collect(),
-                b: e.constant.clone() - bound,
-                strict: true,
-            });
-        };
-        let d = |k: usize| danger_distance(p, &self.drive(k).speed);
+        let gap = |i: usize| self.gap(m, i, nv);
         match piece.entry {
             None => {
                 if t > l {
-                    let theta = min_opt(&p.rho, d(t - 1));
+                    let theta = min_opt(&s.rho, self.danger(s, t - 1));
                     above(
-                        &mut rows,
+                        rows,
                         format!("o[{}] > min(rho, d_coll)", t - 1),
                         &gap(t - 1 - l),
                         theta,
@@ -474,79 +489,66 @@ impl Decomposition {
             Some(e) => {
                 if e > l && !piece.early {
                     above(
-                        &mut rows,
+                        rows,
                         format!("o[{}] > rho", e - 1),
                         &gap(e - 1 - l),
-                        p.rho.clone(),
+                        s.rho.clone(),
                     );
                 }
                 if e < t {
-                    at_most(
-                        &mut rows,
-                        format!("o[{e}] <= rho"),
-                        &gap(e - l),
-                        p.rho.clone(),
-                    );
-                    let dk =
-                        d(t - 1).expect("in-area pieces exist only with a finite danger distance");
-                    above(
-                        &mut rows,
-                        format!("o[{}] > d_coll", t - 1),
-                        &gap(t - 1 - l),
-                        dk,
-                    );
+                    at_most(rows, format!("o[{e}] <= rho"), &gap(e - l), s.rho.clone());
+                    let dk = self
+                        .danger(s, t - 1)
+                        .expect("in-area pieces exist only with a finite danger distance");
+                    above(rows, format!("o[{}] > d_coll", t - 1), &gap(t - 1 - l), dk);
                     for k in e..t {
                         if k > l + m {
-                            vars[w_var(k - l - 1)].upper = p.V_a.clone();
+                            vars[1 + (k - l - 1) - m].upper = s.V_a.clone();
                         }
                     }
                 }
             }
         }
-        let g_n = gap(n);
+    }
+
+    /// Rows of the piece's ending at T: the guard fires (danger or wrong assumption) with
+    /// the obstacle still ahead, or the observation has jumped to ≤ 0 (pass-through).
+    fn ending_rows(
+        &self,
+        s: &Params<ParamAffine>,
+        piece: &Piece,
+        m: usize,
+        g_n: &Affine,
+        rows: &mut Vec<Row>,
+    ) {
+        let t = piece.brake;
+        let zero = || ParamAffine::constant(Exact::ZERO);
         match piece.ending {
             Ending::Danger | Ending::WrongAssumption => {
-                above(&mut rows, format!("o[{t}] > 0"), &g_n, zero.clone());
+                above(rows, format!("o[{t}] > 0"), g_n, zero());
                 if piece.ending == Ending::Danger {
-                    let theta = min_opt(&p.rho, d(t));
-                    at_most(
-                        &mut rows,
-                        format!("o[{t}] <= min(rho, d_coll)"),
-                        &g_n,
-                        theta,
-                    );
+                    let theta = min_opt(&s.rho, self.danger(s, t));
+                    at_most(rows, format!("o[{t}] <= min(rho, d_coll)"), g_n, theta);
                 } else {
-                    at_most(&mut rows, format!("o[{t}] <= rho"), &g_n, p.rho.clone());
-                    let mut coef = vec![zero.clone(); nv];
-                    coef[w_var(n - 1)] = Exact::ONE;
+                    at_most(rows, format!("o[{t}] <= rho"), g_n, s.rho.clone());
+                    let n = t - self.params.L;
+                    let mut coef = vec![Exact::ZERO; g_n.coef.len()];
+                    coef[1 + (n - 1) - m] = Exact::ONE;
                     let e = Affine {
                         coef,
-                        constant: zero.clone(),
+                        constant: Exact::ZERO,
                     };
-                    above(&mut rows, format!("w[{}] > V_a", n - 1), &e, p.V_a.clone());
+                    above(rows, format!("w[{}] > V_a", n - 1), &e, s.V_a.clone());
                 }
             }
-            Ending::PassThrough => {
-                at_most(&mut rows, format!("o[{t}] <= 0"), &g_n, zero.clone());
-            }
+            Ending::PassThrough => at_most(rows, format!("o[{t}] <= 0"), g_n, zero()),
         }
-        let (objective, constant) = if piece.has_objective() {
-            // Gap at rest = g_n − (P_rest − P_n) − W·(t_rest − n·dt).
-            let (t_rest, p_rest) = self.rest(t);
-            let tail = t_rest - Exact::from(n) * p.dt.clone();
-            (
-                Some(g_n.coef.clone()),
-                g_n.constant.clone() - (p_rest - pos(n)) - p.W.clone() * tail,
-            )
-        } else {
-            (None, zero)
-        };
-        Program {
-            vars,
-            rows,
-            objective,
-            constant,
-        }
+    }
+
+    /// d_coll at the drive profile's speed at step k (None for the `area` rule), affine in
+    /// V_a and the buffer.
+    fn danger(&self, s: &Params<ParamAffine>, k: usize) -> Option<ParamAffine> {
+        danger_distance(s, &ParamAffine::constant(self.drive(k).speed))
     }
 
     /// The obstacle's fastest approach over steps 0..m for an early piece: speed W while
@@ -557,13 +559,24 @@ impl Decomposition {
     /// speeds down by a factor λ ≤ 1: the scaled path is farther out at every step, so it is
     /// inside the area at fewer steps, and there its speed is a fraction of one ≤ V_a.
     pub fn fastest_approach(&self, m: usize) -> (Vec<Exact>, Exact) {
-        let p = &self.params;
-        let mut gap = p.g0.clone();
+        let (speeds, gap) = self.fastest_approach_affine(&symbolic(&self.params), m);
+        (speeds.into_iter().map(|w| w.value).collect(), gap.value)
+    }
+
+    /// [`Decomposition::fastest_approach`] with its numbers affine in the parameters (each
+    /// step's branch is the one taken at the problem's values).
+    fn fastest_approach_affine(
+        &self,
+        s: &Params<ParamAffine>,
+        m: usize,
+    ) -> (Vec<ParamAffine>, ParamAffine) {
+        let dt = &self.params.dt;
+        let mut gap = s.g0.clone();
         let mut speeds = Vec::with_capacity(m);
         for j in 0..m {
-            let next = self.fastest_step(j, gap.clone());
-            let closing = self.position(j + 1) - self.position(j);
-            speeds.push((gap - closing - next.clone()) / p.dt.clone());
+            let next = self.fastest_step(s, j, gap.clone());
+            let closing = ParamAffine::constant(self.position(j + 1) - self.position(j));
+            speeds.push((gap - closing - next.clone()).scaled(&(Exact::ONE / dt)));
             gap = next;
         }
         (speeds, gap)
@@ -573,35 +586,37 @@ impl Decomposition {
     /// [`Decomposition::fastest_approach`]) has covered at least `need`, if any before the
     /// robot alone reaches the obstacle's start.
     fn first_fast_cover(&self, from: usize, need: &Exact) -> Option<usize> {
+        let s = symbolic(&self.params);
         let p = &self.params;
         let end = self.last_brake;
-        let mut gap = p.g0.clone();
+        let mut gap = s.g0.clone();
         for j in 0..end {
-            if j >= from && p.g0.clone() - self.position(j) - gap.clone() >= *need {
+            if j >= from && p.g0.clone() - self.position(j) - gap.value.clone() >= *need {
                 return Some(j);
             }
-            gap = self.fastest_step(j, gap);
+            gap = self.fastest_step(&s, j, gap);
         }
         None
     }
 
     /// One step of the fastest approach from `gap` at step j.
-    fn fastest_step(&self, j: usize, gap: Exact) -> Exact {
-        let p = &self.params;
-        let closing = self.position(j + 1) - self.position(j);
-        let at_w = gap.clone() - closing.clone() - p.W.clone() * p.dt.clone();
-        let w = if at_w > p.rho {
-            p.W.clone()
+    fn fastest_step(&self, s: &Params<ParamAffine>, j: usize, gap: ParamAffine) -> ParamAffine {
+        let dt = &self.params.dt;
+        let closing = ParamAffine::constant(self.position(j + 1) - self.position(j));
+        let at_w = gap.clone() - closing.clone() - s.W.scaled(dt);
+        let w = if at_w > s.rho {
+            s.W.clone()
         } else {
-            let to_edge = (gap.clone() - closing.clone() - p.rho.clone()) / p.dt.clone();
-            let w = if to_edge > p.V_a {
+            let to_edge =
+                (gap.clone() - closing.clone() - s.rho.clone()).scaled(&(Exact::ONE / dt));
+            let w = if to_edge > s.V_a {
                 to_edge
             } else {
-                p.V_a.clone()
+                s.V_a.clone()
             };
-            if w > p.W { p.W.clone() } else { w }
+            if w > s.W { s.W.clone() } else { w }
         };
-        gap - closing - w * p.dt.clone()
+        gap - closing - w.scaled(dt)
     }
 
     /// Where a merged piece's optimum u* = g_m lies: the shift j ≥ 0 whose box contains it
@@ -618,11 +633,32 @@ impl Decomposition {
     }
 }
 
-fn min_opt(rho: &Exact, d: Option<Exact>) -> Exact {
+/// min(ρ, d), with d = None standing for ∞ (the `area` rule).
+fn min_opt(rho: &ParamAffine, d: Option<ParamAffine>) -> ParamAffine {
     match d {
         Some(d) if d < *rho => d,
         _ => rho.clone(),
     }
+}
+
+/// Pushes the row `e ≤ bound`.
+fn at_most(rows: &mut Vec<Row>, label: String, e: &Affine, bound: ParamAffine) {
+    rows.push(Row {
+        label,
+        a: e.coef.clone(),
+        b: bound - ParamAffine::constant(e.constant.clone()),
+        strict: false,
+    });
+}
+
+/// Pushes the strict row `e > bound`, closed as `−e ≤ −bound`.
+fn above(rows: &mut Vec<Row>, label: String, e: &Affine, bound: ParamAffine) {
+    rows.push(Row {
+        label,
+        a: e.coef.iter().map(|c| -c.clone()).collect(),
+        b: ParamAffine::constant(e.constant.clone()) - bound,
+        strict: true,
+    });
 }
 
 #[cfg(test)]
