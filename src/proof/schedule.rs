@@ -34,9 +34,10 @@
 //! Entries E ≤ T−2 need no piece each: their rows from step T−2 on are the same (entered by
 //! T−2, clear of danger at T−1, observed speed at T−1 ≤ V_a), and the earlier rows only
 //! constrain speeds that enter the gap at T−2 through their sum. One *early* piece per T
-//! (o_{T−2} ≤ ρ, anchored at T−2) stands for all of them; its worst case is realised by an
-//! obstacle that closes in while outside the area and then waits, observed at speed 0,
-//! while the robot closes the rest. So each brake step has at most three entries: T, T−1,
+//! (o_{T−2} ≤ ρ, anchored at T−2) stands for all of them. The lowest gap its prefix can
+//! reach is that of the fastest approach that respects the area — W while outside, at most
+//! V_a once inside ([`Decomposition::fastest_approach`]) — and every gap above it is reached
+//! by scaling those speeds down (docs/reductions.md, Lemma 8). So each brake step has at most three entries: T, T−1,
 //! and "T−2 or earlier".
 //!
 //! Each piece's rows are necessary and sufficient for its schedule (the converse direction
