@@ -204,98 +204,129 @@ impl Decomposition {
             last_brake: 0,
             pieces: Vec::new(),
         };
-        let p = d.params.clone();
-        let l = p.L;
+        d.find_brake_range();
+        let merge_at = d.merge_step();
+        if d.params.wrong_assumption_active() {
+            d.list_in_area_pieces(merge_at);
+        } else {
+            d.list_pieces(merge_at);
+        }
+        d
+    }
+
+    /// Sets `first_brake` (before it even the fastest obstacle is observed outside ρ) and
+    /// `last_brake` (from it on the robot alone has reached the obstacle's start).
+    fn find_brake_range(&mut self) {
+        let p = self.params.clone();
         let per_step = p.v_max.clone() * p.dt.clone();
         // n_end: first gap index the robot alone reaches the obstacle's start (g0 − P ≤ 0).
-        let n_end = d.first_index(
+        let n_end = self.first_index(
             |k, dec| dec.position(k) >= p.g0,
-            (p.g0.clone() - d.position(d.cruise_from)) / per_step.clone(),
+            (p.g0.clone() - self.position(self.cruise_from)) / per_step,
         );
         // n_start: first gap index the fastest obstacle can be observed within ρ.
         let closing = (p.v_max.clone() + p.W.clone()) * p.dt.clone();
-        let c = d.cruise_from;
+        let c = self.cruise_from;
         let far = p.g0.clone()
-            - d.position(c)
+            - self.position(c)
             - p.W.clone() * p.dt.clone() * Exact::from(c)
             - p.rho.clone();
-        let n_start = d.first_index(
+        let n_start = self.first_index(
             |k, dec| {
                 p.g0.clone() - dec.position(k) - p.W.clone() * p.dt.clone() * Exact::from(k)
                     <= p.rho
             },
             far / closing,
         );
-        d.first_brake = n_start + l;
-        d.last_brake = n_end + 1 + l;
-        // Anchor index from which shifted pieces merge: cruising, and boxes overlap.
-        let wa = p.wrong_assumption_active();
+        self.first_brake = n_start + p.L;
+        self.last_brake = n_end + 1 + p.L;
+    }
+
+    /// The brake step from which shifted pieces merge (cruising, and the boxes of
+    /// consecutive shifts overlap), if it comes before `last_brake`.
+    fn merge_step(&self) -> Option<usize> {
+        let p = &self.params;
+        if p.W <= Exact::ZERO {
+            return None;
+        }
         // Anchors sit at T−1−L, or T−2−L for the entries E = T−1 and E ≤ T−2.
-        let reach = if wa { 2 } else { 1 };
-        let merge_at = if p.W > Exact::ZERO {
-            let need =
-                usize::try_from((p.v_max.clone() / p.W.clone()).ceil()).unwrap_or(usize::MAX);
-            let t = d.cruise_from.max(need).max(1).saturating_add(reach + l);
-            Some(t.max(d.first_brake)).filter(|&t| t < d.last_brake)
-        } else {
-            None
-        };
-        let last = merge_at.unwrap_or(d.last_brake);
-        if !wa {
-            for t in d.first_brake.max(l)..last {
-                d.push_endings(None, t, false, &[Ending::Danger, Ending::PassThrough]);
-            }
-            if let Some(t) = merge_at {
-                d.push_endings(None, t, true, &[Ending::Danger, Ending::PassThrough]);
-            }
-        } else {
-            let all = [Ending::Danger, Ending::WrongAssumption, Ending::PassThrough];
-            let first = d.first_brake.max(l);
-            // Entries of brake step t: at t, at t−1, and at t−2 or earlier. Individual pieces
-            // need their entry at or after the first possible one; a merged piece stands for
-            // all later shifts, so it keeps all of its entries.
-            let recent = |d: &Self, t: usize, merged: bool| -> Vec<usize> {
-                let mut out = vec![t];
-                if (merged || t > first) && t > l && d.in_area_possible(t - 1, t) {
-                    out.push(t - 1);
-                }
-                out
-            };
-            let early_ok = |d: &Self, t: usize, merged: bool| {
-                (merged || t > first + 1) && t > l + 1 && d.in_area_possible(t - 2, t)
-            };
-            // Early pieces merge only once the area-respecting fastest approach can cover
-            // v_max·dt before the anchor: then the reachable gaps of consecutive shifts
-            // overlap (see `fastest_approach`); until then they are listed one by one.
-            let early_merge_at = merge_at.and_then(|t0| {
-                let need = p.v_max.clone() * p.dt.clone();
-                d.first_fast_cover(t0 - 2 - l, &need)
-                    .map(|m| m + 2 + l)
-                    .filter(|&t| t < d.last_brake)
-            });
-            let early_last = early_merge_at.unwrap_or(d.last_brake);
-            for t in first..last.max(early_last) {
-                if t < last {
-                    for e in recent(&d, t, false) {
-                        d.push_entry(e, t, false, false, &all);
-                    }
-                }
-                if t < early_last && early_ok(&d, t, false) {
-                    d.push_entry(t - 2, t, false, true, &all);
+        let reach = if p.wrong_assumption_active() { 2 } else { 1 };
+        let need = usize::try_from((p.v_max.clone() / p.W.clone()).ceil()).unwrap_or(usize::MAX);
+        let t = self
+            .cruise_from
+            .max(need)
+            .max(1)
+            .saturating_add(reach + p.L);
+        Some(t.max(self.first_brake)).filter(|&t| t < self.last_brake)
+    }
+
+    /// The pieces without the wrong-assumption guard: one per brake step and ending.
+    fn list_pieces(&mut self, merge_at: Option<usize>) {
+        let endings = [Ending::Danger, Ending::PassThrough];
+        let last = merge_at.unwrap_or(self.last_brake);
+        for t in self.first_brake.max(self.params.L)..last {
+            self.push_endings(None, t, false, &endings);
+        }
+        if let Some(t) = merge_at {
+            self.push_endings(None, t, true, &endings);
+        }
+    }
+
+    /// The pieces with the wrong-assumption guard: per brake step t, entries at t, at t−1,
+    /// and at t−2 or earlier (one early piece), each with every ending.
+    fn list_in_area_pieces(&mut self, merge_at: Option<usize>) {
+        let all = [Ending::Danger, Ending::WrongAssumption, Ending::PassThrough];
+        let l = self.params.L;
+        let first = self.first_brake.max(l);
+        let last = merge_at.unwrap_or(self.last_brake);
+        // Early pieces merge only once the area-respecting fastest approach can cover
+        // v_max·dt before the anchor: then the reachable gaps of consecutive shifts
+        // overlap (see `fastest_approach`); until then they are listed one by one.
+        let early_merge_at = merge_at.and_then(|t0| {
+            let need = self.params.v_max.clone() * self.params.dt.clone();
+            self.first_fast_cover(t0 - 2 - l, &need)
+                .map(|m| m + 2 + l)
+                .filter(|&t| t < self.last_brake)
+        });
+        let early_last = early_merge_at.unwrap_or(self.last_brake);
+        for t in first..last.max(early_last) {
+            if t < last {
+                for e in self.recent_entries(first, t, false) {
+                    self.push_entry(e, t, false, false, &all);
                 }
             }
-            if let Some(t) = merge_at {
-                for e in recent(&d, t, true) {
-                    d.push_entry(e, t, true, false, &all);
-                }
-            }
-            if let Some(t) = early_merge_at
-                && early_ok(&d, t, true)
-            {
-                d.push_entry(t - 2, t, true, true, &all);
+            if t < early_last && self.early_entry_possible(first, t, false) {
+                self.push_entry(t - 2, t, false, true, &all);
             }
         }
-        d
+        if let Some(t) = merge_at {
+            for e in self.recent_entries(first, t, true) {
+                self.push_entry(e, t, true, false, &all);
+            }
+        }
+        if let Some(t) = early_merge_at
+            && self.early_entry_possible(first, t, true)
+        {
+            self.push_entry(t - 2, t, true, true, &all);
+        }
+    }
+
+    /// Entries of brake step t at t and at t−1. Individual pieces need their entry at or
+    /// after the first possible brake step `first`; a merged piece stands for all later
+    /// shifts, so it keeps all of its entries.
+    fn recent_entries(&self, first: usize, t: usize, merged: bool) -> Vec<usize> {
+        let l = self.params.L;
+        let mut out = vec![t];
+        if (merged || t > first) && t > l && self.in_area_possible(t - 1, t) {
+            out.push(t - 1);
+        }
+        out
+    }
+
+    /// Whether brake step t has an early piece (entry at t−2 or before).
+    fn early_entry_possible(&self, first: usize, t: usize, merged: bool) -> bool {
+        let l = self.params.L;
+        (merged || t > first + 1) && t > l + 1 && self.in_area_possible(t - 2, t)
     }
 
     /// The first index k ≥ 0 where `reached(k)` holds, for a predicate that is monotone in k

@@ -1,0 +1,224 @@
+//! `check`: a certificate re-verified from the problem alone, in exact rationals, without
+//! the solver (what it checks, step by step, is listed in [`crate::proof::certificate`]).
+
+use crate::core::num::{Exact, exact_decimal, f64_at_most};
+use crate::core::simulate;
+use crate::proof::certificate::{Certificate, FORMAT, Proof, premises};
+use crate::proof::program::ProofKind;
+use crate::proof::schedule::{Decomposition, Piece};
+use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
+
+/// What `check` established.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckReport {
+    /// The verdict, re-derived.
+    pub verdict: Verdict,
+    /// Pieces whose proofs were verified.
+    pub pieces: usize,
+    /// The exact least bound (None: not all pieces proved).
+    pub lower_bound: Option<Exact>,
+}
+
+/// Why a certificate is rejected.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("{0}")]
+pub struct Invalid(pub String);
+
+fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
+    Err(Invalid(msg.into()))
+}
+
+/// Re-verifies a certificate without the solver (see the module docs for what is checked).
+pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
+    check_envelope(cert)?;
+    let dec = Decomposition::new(&cert.problem);
+    let lower = check_proofs(cert, &dec)?;
+    check_claims(cert, lower.as_ref())?;
+    let collides = match &cert.witness {
+        // Without a witness there is nothing realising a worst case to report.
+        None if cert.min_separation.is_some() || cert.never_stops => {
+            return invalid("min_separation or never_stops is stated without a witness behind it");
+        }
+        None => false,
+        Some(w) => check_witness(cert, w)?,
+    };
+    let certified = lower
+        .as_ref()
+        .is_some_and(|l| *l > exact_decimal(cert.problem.robot.clearance));
+    let verdict = match (certified, collides) {
+        (true, true) => return invalid("the proofs certify, yet the witness collides"),
+        (true, false) => Verdict::Certified,
+        (false, true) => Verdict::Refuted,
+        (false, false) => Verdict::Inconclusive,
+    };
+    if verdict != cert.verdict {
+        return invalid(format!(
+            "stated verdict {} does not follow; the evidence gives {}",
+            cert.verdict.as_str(),
+            verdict.as_str()
+        ));
+    }
+    Ok(CheckReport {
+        verdict,
+        pieces: dec.pieces.len(),
+        lower_bound: lower,
+    })
+}
+
+/// The format tag, the digest and the problem's validity.
+fn check_envelope(cert: &Certificate) -> Result<(), Invalid> {
+    if cert.format != FORMAT {
+        return invalid(format!("format is {:?}, expected {FORMAT:?}", cert.format));
+    }
+    if cert.compute_digest() != cert.digest {
+        return invalid("digest mismatch: the certificate was edited after it was written");
+    }
+    cert.problem
+        .validate("certificate problem")
+        .map_err(|e| Invalid(format!("the certificate's problem is invalid: {e}")))
+}
+
+/// Every proof against the piece rebuilt from the problem; returns the exact least bound
+/// (None when some piece is unproved; the initial gap when every piece is empty).
+fn check_proofs(cert: &Certificate, dec: &Decomposition) -> Result<Option<Exact>, Invalid> {
+    if cert.pieces != dec.pieces.len() || cert.proofs.len() != dec.pieces.len() {
+        return invalid(format!(
+            "the problem has {} pieces; the certificate lists {} proofs",
+            dec.pieces.len(),
+            cert.proofs.len()
+        ));
+    }
+    let mut lower: Option<Exact> = None;
+    let mut all_proved = true;
+    for (i, (proof, piece)) in cert.proofs.iter().zip(&dec.pieces).enumerate() {
+        if proof.piece != *piece {
+            return invalid(format!(
+                "proof {i} is for {:?}, but piece {i} is {piece:?}",
+                proof.piece
+            ));
+        }
+        match check_proof(i, proof, piece, dec)? {
+            None => all_proved = false,
+            Some((ProofKind::Bound, exact)) if lower.as_ref().is_none_or(|l| exact < *l) => {
+                lower = Some(exact);
+            }
+            Some(_) => {}
+        }
+    }
+    Ok(all_proved.then(|| lower.unwrap_or_else(|| dec.params.g0.clone())))
+}
+
+/// One proof: its bound recomputed exactly and equal to the stated one, an infeasibility
+/// proof really proving the piece empty. None for a piece stated as unproved.
+fn check_proof(
+    i: usize,
+    proof: &Proof,
+    piece: &Piece,
+    dec: &Decomposition,
+) -> Result<Option<(ProofKind, Exact)>, Invalid> {
+    let Some(kind) = &proof.kind else {
+        return Ok(None);
+    };
+    let program = dec.program(piece);
+    let objective = *kind == ProofKind::Bound;
+    if objective && !piece.has_objective() {
+        return invalid(format!(
+            "proof {i}: a pass-through piece needs an infeasibility proof"
+        ));
+    }
+    let Some(exact) = program.bound(&proof.multipliers, objective) else {
+        return invalid(format!(
+            "proof {i}: multipliers malformed or prove no finite bound"
+        ));
+    };
+    if proof.bound != Some(f64_at_most(&exact)) {
+        return invalid(format!(
+            "proof {i}: stated bound {:?} but the multipliers prove {}",
+            proof.bound,
+            f64_at_most(&exact)
+        ));
+    }
+    if *kind == ProofKind::Infeasible && program.proves_empty(&proof.multipliers).is_none() {
+        return invalid(format!(
+            "proof {i}: the multipliers do not prove the piece empty"
+        ));
+    }
+    Ok(Some((kind.clone(), exact)))
+}
+
+/// The stated lower bound, clearance and premises against what the proofs and problem give.
+fn check_claims(cert: &Certificate, lower: Option<&Exact>) -> Result<(), Invalid> {
+    if cert.lower_bound != lower.map(f64_at_most) {
+        return invalid(format!(
+            "stated lower bound {:?}, proofs give {:?}",
+            cert.lower_bound,
+            lower.map(f64_at_most)
+        ));
+    }
+    if cert.clearance != cert.problem.robot.clearance {
+        return invalid("clearance differs from the problem's");
+    }
+    if cert.premises != premises(&cert.problem) {
+        return invalid("premises differ from the problem's");
+    }
+    Ok(())
+}
+
+/// Replays a witness exactly; returns whether it collides.
+fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
+    let params = cert.problem.params::<Exact>();
+    let bound = &params.W;
+    if let Some(k) = w
+        .obstacle_speeds
+        .iter()
+        .position(|&s| s.is_nan() || s < 0.0 || crate::core::num::exact_float(s) > *bound)
+    {
+        return invalid(format!("witness speed in period {k} is outside [0, W]"));
+    }
+    let replay = simulate::replay(&params, &w.obstacle_speeds, w.obstacle_speeds.len(), false);
+    if replay.periods() != w.obstacle_speeds.len() {
+        return invalid("witness lists speeds past the end of its run");
+    }
+    let steps = replay.trace();
+    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
+    let same = steps.len() == w.steps.len()
+        && steps.iter().zip(&w.steps).all(|(a, b)| {
+            a.robot_mode == b.robot_mode
+                && close(a.t, b.t)
+                && close(a.robot_position, b.robot_position)
+                && close(a.robot_speed, b.robot_speed)
+                && close(a.obstacle_position, b.obstacle_position)
+                && close(a.obstacle_speed, b.obstacle_speed)
+                && close(a.gap, b.gap)
+        });
+    if !same {
+        return invalid("witness trace differs from its exact replay");
+    }
+    if replay.collided() != w.collides {
+        return invalid("witness collision flag differs from its exact replay");
+    }
+    let sep = replay.rest_gap().as_ref().map(f64_at_most);
+    if sep.is_some() != w.separation.is_some()
+        || sep
+            .zip(w.separation)
+            .is_some_and(|(a, b)| (a - b).abs() > 1e-12)
+    {
+        return invalid("witness separation differs from its exact replay");
+    }
+    match (cert.min_separation, w.separation) {
+        (Some(s), Some(r)) if !(r >= s - REPLAY_TOLERANCE && r - s <= REPLAY_TOLERANCE) => {
+            return invalid("min_separation is not reproduced by the witness");
+        }
+        (Some(s), _) if cert.lower_bound.is_some_and(|l| s < l - REPLAY_TOLERANCE) => {
+            return invalid("min_separation lies below the proved lower bound");
+        }
+        (None, Some(_)) if cert.never_stops => {
+            return invalid("never_stops, yet the witness stops");
+        }
+        _ => {}
+    }
+    if cert.never_stops && (w.separation.is_some() || !w.collides) {
+        return invalid("never_stops requires a witness that collides without stopping");
+    }
+    Ok(replay.collided())
+}
