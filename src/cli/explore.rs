@@ -1,18 +1,20 @@
-//! `safereach explore` and `safereach export-uppaal`: the exhaustive explorer over a finite
-//! speed set, and the same finite model as UPPAAL timed automata.
+//! `safereach explore`: exhaustive breadth-first exploration of the finite model, where the
+//! obstacle picks its speed each period from a finite set — an independent check of
+//! `certify` that needs no solver. With `--grid`, the exported UPPAAL network is explored on
+//! its integer grid instead (what UPPAAL would answer for `export-uppaal`).
 //!
-//! Exit codes of `explore`: 0 safe, 1 collision, 3 inconclusive (state budget reached),
-//! 2 bad input or an internal error. `export-uppaal`: 0 written, 2 bad input.
+//! Exit codes: 0 safe, 1 collision, 3 inconclusive (state budget reached), 2 bad input or an
+//! internal error.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde_json::{Value, json};
 
 use safereach::core::model::Problem;
 use safereach::core::num::Exact;
-use safereach::core::output::{trace_csv, write_atomic};
+use safereach::core::output::trace_csv;
 use safereach::core::semantics::Mode;
 use safereach::core::simulate::TraceRow;
 use safereach::crosscheck::explore::{
@@ -20,7 +22,11 @@ use safereach::crosscheck::explore::{
 };
 use safereach::crosscheck::uppaal::{self, GridExploration};
 
-/// Arguments of `safereach explore`.
+use super::exit::Exit;
+use super::input;
+use super::output::{Output, write_file};
+
+/// Arguments of `safereach explore`, as typed.
 #[derive(clap::Args)]
 pub struct ExploreArgs {
     /// Problem file (TOML).
@@ -48,61 +54,42 @@ pub struct ExploreArgs {
     grid: bool,
 }
 
-/// Arguments of `safereach export-uppaal`.
-#[derive(clap::Args)]
-pub struct ExportUppaalArgs {
-    /// Problem file (TOML).
-    problem: PathBuf,
-    /// Override a key (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    sets: Vec<String>,
-    /// Obstacle speeds, as for `explore` (the obstacle automaton selects among them).
-    #[arg(long, value_name = "N|LIST", default_value = "5")]
-    speeds: String,
-    /// Model file to write (UPPAAL XML); the query goes beside it with extension `.q`.
-    /// Default: the problem file's name with extension `.xml`, in the current directory.
-    #[arg(long, value_name = "FILE")]
-    out: Option<PathBuf>,
-}
-
-fn load(problem: &Path, sets: &[String]) -> Result<Problem> {
-    Ok(Problem::load_with_overrides(problem, sets)?)
-}
-
-/// Runs `safereach explore`.
-pub fn run(args: ExploreArgs) -> Result<ExitCode> {
-    let problem = load(&args.problem, &args.sets)?;
+/// `--speeds` for `problem`: a count or a list, within its obstacle speed bound W.
+pub fn speed_set(problem: &Problem, speeds: &str) -> Result<SpeedSet> {
     let w: Exact = problem.params::<Exact>().W;
-    let speeds = SpeedSet::parse(&args.speeds, &w)?;
+    Ok(SpeedSet::parse(speeds, &w)?)
+}
+
+/// Runs `safereach explore`: exit 0 safe, 1 collision, 3 inconclusive.
+pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
+    let problem = input::problem(&args.problem, &args.sets)?;
+    let speeds = speed_set(&problem, &args.speeds)?;
     let options = Options {
         max_states: args.max_states,
     };
     if args.grid {
-        return run_grid(&problem, speeds, &options, &args);
+        if args.trace.is_some() {
+            anyhow::bail!(
+                "--trace is not available with --grid (the grid explorer reports states, not traces)"
+            );
+        }
+        return run_grid(&problem, speeds, &options, args.json, out);
     }
     let result = explore::explore(&problem, speeds, &options)?;
     let witness = result.counterexample.as_ref().or(result.closest.as_ref());
     if let (Some(path), Some(w)) = (&args.trace, witness) {
-        write_atomic(path, trace_csv(&w.trace, "0").as_bytes())
-            .with_context(|| format!("writing {}", path.display()))?;
+        write_file(path, trace_csv(&w.trace, "0").as_bytes())?;
     }
     if args.json {
-        println!(
+        writeln!(
+            out,
             "{}",
             serde_json::to_string_pretty(&to_json(&problem, &result))?
-        );
+        )?;
     } else {
-        print!("{}", summary(&problem, &result, args.trace.as_deref()));
+        write!(out, "{}", summary(&problem, &result, args.trace.as_deref()))?;
     }
-    Ok(exit_code(result.verdict))
-}
-
-fn exit_code(verdict: ExploreVerdict) -> ExitCode {
-    ExitCode::from(match verdict {
-        ExploreVerdict::Safe => 0,
-        ExploreVerdict::Collision => 1,
-        ExploreVerdict::Inconclusive => 3,
-    })
+    Ok(result.verdict.into())
 }
 
 fn path_json(path: &explore::Path) -> Value {
@@ -240,21 +227,18 @@ fn summary(problem: &Problem, result: &Exploration, trace: Option<&Path>) -> Str
     s
 }
 
+/// `explore --grid`: the UPPAAL network explored on its integer grid.
 fn run_grid(
     problem: &Problem,
     speeds: SpeedSet,
     options: &Options,
-    args: &ExploreArgs,
-) -> Result<ExitCode> {
-    if args.trace.is_some() {
-        anyhow::bail!(
-            "--trace is not available with --grid (the grid explorer reports states, not traces)"
-        );
-    }
+    json: bool,
+    out: &mut Output,
+) -> Result<Exit> {
     let model = uppaal::export(problem, &speeds)?;
     let result: GridExploration = uppaal::explore_grid(&model, options)?;
     let sep = result.min_separation.as_ref().map(|g| g.to_f64().value());
-    if args.json {
+    if json {
         let v = json!({
             "problem": problem.name,
             "grid": true,
@@ -267,77 +251,35 @@ fn run_grid(
             "collision_period": result.collision_period,
             "path": Value::Null,
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
-    } else {
-        println!(
-            "{}: {} (UPPAAL network on the integer grid, 1 unit = 1/{} m, 1 time unit = {} s)",
-            problem.name,
-            result.verdict.as_str(),
-            model.grid.scale,
-            problem.robot.control_period
-        );
-        println!(
-            "  network states {}{}",
-            result.states,
-            if result.complete {
-                ""
-            } else {
-                " - state budget reached"
-            }
-        );
-        if let Some(k) = result.collision_period {
-            println!("  first collision in period {k} (shortest path)");
-        }
-        match (result.min_separation_grid, sep) {
-            (Some(g), Some(m)) if result.verdict == ExploreVerdict::Safe => {
-                println!("  minimum separation at rest: {g} units = {m:.9} m")
-            }
-            _ => {}
-        }
+        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
+        return Ok(result.verdict.into());
     }
-    Ok(exit_code(result.verdict))
-}
-
-/// Runs `safereach export-uppaal`.
-pub fn export_uppaal(args: ExportUppaalArgs) -> Result<ExitCode> {
-    let problem = load(&args.problem, &args.sets)?;
-    let w: Exact = problem.params::<Exact>().W;
-    let speeds = SpeedSet::parse(&args.speeds, &w)?;
-    let model = uppaal::export(&problem, &speeds)?;
-    let out = match args.out {
-        Some(p) => p,
-        None => {
-            let stem = args
-                .problem
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "model".into());
-            PathBuf::from(format!("{stem}.xml"))
-        }
-    };
-    let query = out.with_extension("q");
-    if query == out {
-        anyhow::bail!(
-            "--out {}: the model file must not end in .q (the query file is written beside it)",
-            out.display()
-        );
-    }
-    write_atomic(&out, model.xml.as_bytes())
-        .with_context(|| format!("writing {}", out.display()))?;
-    write_atomic(&query, model.query.as_bytes())
-        .with_context(|| format!("writing {}", query.display()))?;
-    println!(
-        "{}: wrote {} and {}\n  integer grid: 1 distance unit = 1/{} m, 1 time unit = one control period ({} s), \
-         speeds in distance units per period; exact for this problem (no rounding)\n  \
-         obstacle speeds {} m/s; reference answer: safereach explore {} --speeds {}",
+    writeln!(
+        out,
+        "{}: {} (UPPAAL network on the integer grid, 1 unit = 1/{} m, 1 time unit = {} s)",
         problem.name,
-        out.display(),
-        query.display(),
+        result.verdict.as_str(),
         model.grid.scale,
-        problem.robot.control_period,
-        speeds,
-        args.problem.display(),
-        args.speeds
-    );
-    Ok(ExitCode::SUCCESS)
+        problem.robot.control_period
+    )?;
+    writeln!(
+        out,
+        "  network states {}{}",
+        result.states,
+        if result.complete {
+            ""
+        } else {
+            " - state budget reached"
+        }
+    )?;
+    if let Some(k) = result.collision_period {
+        writeln!(out, "  first collision in period {k} (shortest path)")?;
+    }
+    match (result.min_separation_grid, sep) {
+        (Some(g), Some(m)) if result.verdict == ExploreVerdict::Safe => {
+            writeln!(out, "  minimum separation at rest: {g} units = {m:.9} m")?
+        }
+        _ => {}
+    }
+    Ok(result.verdict.into())
 }

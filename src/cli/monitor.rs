@@ -25,8 +25,7 @@
 
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
+use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -35,7 +34,10 @@ use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
 use safereach::monitor::{
     DEFAULT_MAX_OBSTACLES, Detail, Event, Monitor, PremiseSummary, Status, Summary, Verdict,
 };
-use safereach::proof::certificate::Certificate;
+
+use super::exit::Exit;
+use super::input::{self, Unreadable};
+use super::output::Output;
 
 /// Arguments of `safereach monitor`.
 #[derive(clap::Args)]
@@ -70,46 +72,76 @@ enum FormatArg {
     Jsonl,
 }
 
-/// Runs `safereach monitor`.
-pub fn run(args: MonitorArgs) -> Result<ExitCode> {
-    let cert = read_certificate(&args.certificate)?;
-    let mut monitor = Monitor::new(&cert)
-        .with_context(|| format!("{}: certificate unusable", args.certificate.display()))?;
-    let columns = args
-        .columns
-        .as_deref()
-        .map(|list| {
-            Columns::from_names(list).map_err(|d| anyhow::anyhow!("--columns {list:?}: {d}"))
+/// A monitoring session, validated from [`MonitorArgs`]: the certificate's monitor, the
+/// trace's decoder, the input and how to print.
+struct Session {
+    monitor: Monitor,
+    decoder: Decoder,
+    input: Box<dyn Read>,
+    /// The input as named in errors: the trace's path, or `standard input`.
+    origin: String,
+    printer: Printer,
+}
+
+impl Session {
+    /// Reads the certificate (it must pass `check` and be `certified`), parses `--columns`,
+    /// settles the format and opens the trace, in that order.
+    fn new(args: &MonitorArgs) -> Result<Session> {
+        let cert = input::certificate(&args.certificate, Unreadable::CannotRead)?;
+        let monitor = Monitor::new(&cert)
+            .with_context(|| format!("{}: certificate unusable", args.certificate.display()))?;
+        let columns = args
+            .columns
+            .as_deref()
+            .map(|list| {
+                Columns::from_names(list).map_err(|d| anyhow::anyhow!("--columns {list:?}: {d}"))
+            })
+            .transpose()?;
+        let live = args.trace.as_os_str() == "-";
+        let format = match args.format {
+            Some(FormatArg::Csv) => Some(Format::Csv),
+            Some(FormatArg::Jsonl) => Some(Format::Jsonl),
+            None if live => None,
+            None => Format::from_path(&args.trace),
+        };
+        let input: Box<dyn Read> = if live {
+            Box::new(io::stdin().lock())
+        } else {
+            Box::new(
+                File::open(&args.trace)
+                    .with_context(|| format!("{}: cannot open the trace", args.trace.display()))?,
+            )
+        };
+        Ok(Session {
+            monitor,
+            decoder: Decoder::new(format, columns, DEFAULT_MAX_OBSTACLES),
+            input,
+            origin: if live {
+                "standard input".to_string()
+            } else {
+                args.trace.display().to_string()
+            },
+            printer: Printer {
+                json: args.json,
+                per_sample: !args.json && !args.events_only,
+                first: None,
+            },
         })
-        .transpose()?;
-    let live = args.trace.as_os_str() == "-";
-    let format = match args.format {
-        Some(FormatArg::Csv) => Some(Format::Csv),
-        Some(FormatArg::Jsonl) => Some(Format::Jsonl),
-        None if live => None,
-        None => Format::from_path(&args.trace),
-    };
-    let input: Box<dyn Read> = if live {
-        Box::new(io::stdin().lock())
-    } else {
-        Box::new(
-            File::open(&args.trace)
-                .with_context(|| format!("{}: cannot open the trace", args.trace.display()))?,
-        )
-    };
-    let mut decoder = Decoder::new(format, columns, DEFAULT_MAX_OBSTACLES);
-    let mut out = BufWriter::with_capacity(1 << 16, io::stdout().lock());
+    }
+}
+
+/// Runs `safereach monitor`: exit 0 every premise held, 1 a violation.
+pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
+    let Session {
+        mut monitor,
+        mut decoder,
+        input,
+        origin,
+        mut printer,
+    } = Session::new(&args)?;
+    // Verdicts are printed in large blocks, and flushed before every read that may block.
+    let mut out = BufWriter::with_capacity(1 << 16, out);
     let mut lines = Lines::new(input);
-    let mut printer = Printer {
-        json: args.json,
-        per_sample: !args.json && !args.events_only,
-        first: None,
-    };
-    let origin = if live {
-        "standard input".to_string()
-    } else {
-        args.trace.display().to_string()
-    };
     loop {
         let line = lines
             .next(&mut out)
@@ -117,26 +149,16 @@ pub fn run(args: MonitorArgs) -> Result<ExitCode> {
         let Some((number, line)) = line else {
             break;
         };
-        let (was, t_text, outcome) = match line {
+        let was = monitor.verdict();
+        let (t_text, outcome) = match line {
             Line::TooLong => {
-                let was = monitor.verdict();
                 let limit = MAX_LINE as u32;
-                (
-                    was,
-                    None,
-                    monitor.malformed(None, Detail::LineTooLong { limit }),
-                )
+                (None, monitor.malformed(None, Detail::LineTooLong { limit }))
             }
             Line::Text(bytes) => match decoder.decode(bytes) {
                 Decoded::Blank | Decoded::Header => continue,
-                Decoded::Sample { sample, t_text } => {
-                    let was = monitor.verdict();
-                    (was, Some(t_text), monitor.observe(&sample))
-                }
-                Decoded::Malformed { t, t_text, detail } => {
-                    let was = monitor.verdict();
-                    (was, t_text, monitor.malformed(t, detail))
-                }
+                Decoded::Sample { sample, t_text } => (Some(t_text), monitor.observe(&sample)),
+                Decoded::Malformed { t, t_text, detail } => (t_text, monitor.malformed(t, detail)),
             },
         };
         printer
@@ -156,17 +178,7 @@ pub fn run(args: MonitorArgs) -> Result<ExitCode> {
         .summary(&mut out, &decoder, &summary)
         .and_then(|()| out.flush())
         .context("writing the output")?;
-    Ok(ExitCode::from(match summary.verdict {
-        Verdict::Held => 0,
-        Verdict::Violated => 1,
-    }))
-}
-
-fn read_certificate(path: &Path) -> Result<Certificate> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read the certificate", path.display()))?;
-    serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a safereach certificate", path.display()))
+    Ok(summary.verdict.into())
 }
 
 // ------------------------------------------------------------------------------------------
@@ -402,23 +414,7 @@ impl Printer {
     fn summary(&self, out: &mut impl Write, decoder: &Decoder, s: &Summary) -> io::Result<()> {
         let first = s.first_violation.as_ref().zip(self.first.as_ref());
         if self.json {
-            let summary = SummaryJson {
-                verdict: s.verdict.as_str(),
-                samples: s.samples,
-                instants: s.instants,
-                obstacles: s.obstacles,
-                violations: s.violations,
-                first_violation: first
-                    .map(|(e, f)| EventJson::new(e, f.obstacle.as_deref(), f.line)),
-                premises: &s.premises,
-                fail_safe: s
-                    .fail_safe
-                    .iter()
-                    .map(|f| (f.check.as_str().to_string(), f.violations.into()))
-                    .collect(),
-            };
-            serde_json::to_writer(&mut *out, &serde_json::json!({ "summary": summary }))?;
-            return out.write_all(b"\n");
+            return summary_json(out, s, first);
         }
         let plural = |n: u64, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
         let counts = format!(
@@ -478,6 +474,30 @@ impl Printer {
         let _ = decoder;
         Ok(())
     }
+}
+
+/// The `--json` summary line.
+fn summary_json(
+    out: &mut impl Write,
+    s: &Summary,
+    first: Option<(&Event, &First)>,
+) -> io::Result<()> {
+    let summary = SummaryJson {
+        verdict: s.verdict.as_str(),
+        samples: s.samples,
+        instants: s.instants,
+        obstacles: s.obstacles,
+        violations: s.violations,
+        first_violation: first.map(|(e, f)| EventJson::new(e, f.obstacle.as_deref(), f.line)),
+        premises: &s.premises,
+        fail_safe: s
+            .fail_safe
+            .iter()
+            .map(|f| (f.check.as_str().to_string(), f.violations.into()))
+            .collect(),
+    };
+    serde_json::to_writer(&mut *out, &serde_json::json!({ "summary": summary }))?;
+    out.write_all(b"\n")
 }
 
 /// `premise obstacle=ID observed X unit > bound Y unit: detail -> brake`.

@@ -1,16 +1,21 @@
-//! `safereach sweep` and `safereach report`.
+//! `safereach sweep`: analyses every cell of a grid of problems in parallel and writes the
+//! results as JSON Lines and CSV — whole, or one shard of several machines' share.
+//!
+//! The helpers here (running a grid with a progress bar, counting verdicts) are shared with
+//! `report`, which sweeps too when it is not given results to merge.
 
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
+use std::io::Write;
+use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use safereach::analysis::Verdict;
-use safereach::analysis::report;
 use safereach::analysis::sweep::{self, CellResult, Grid, Shard};
-use safereach::core::output::write_atomic;
+
+use super::exit::Exit;
+use super::output::{Output, create_dir, write_file};
 
 /// Arguments of `safereach sweep`.
 #[derive(clap::Args)]
@@ -31,19 +36,44 @@ pub struct SweepArgs {
     out: PathBuf,
 }
 
-/// Arguments of `safereach report`.
-#[derive(clap::Args)]
-pub struct ReportArgs {
-    /// Grid files (default: every `problems/*grid*.toml`).
-    grids: Vec<PathBuf>,
-    /// Merge sweep results (and shards) from these directories instead of sweeping.
-    #[arg(long = "from", value_name = "DIR")]
-    from: Vec<PathBuf>,
-    /// Output directory.
-    #[arg(long, default_value = "reports")]
-    out: PathBuf,
+/// Runs `safereach sweep`: exit 0 when the results are written.
+pub fn run(args: SweepArgs, out: &mut Output) -> Result<Exit> {
+    let grid = Grid::load(&args.grid)?;
+    let shard = match &args.shard {
+        Some(s) => Shard::parse(s).map_err(anyhow::Error::msg)?,
+        None => Shard::ALL,
+    };
+    let runs = args.runs.unwrap_or(grid.runs);
+    let seed = args.seed.unwrap_or(grid.seed);
+    let start = Instant::now();
+    let results = run_grid(&grid, shard, runs, seed)?;
+    let elapsed = start.elapsed();
+    create_dir(&args.out)?;
+    let stem = if shard == Shard::ALL {
+        grid.name.clone()
+    } else {
+        format!("{}.shard-{}-of-{}", grid.name, shard.index, shard.count)
+    };
+    let jsonl = args.out.join(format!("{stem}.jsonl"));
+    let csv = args.out.join(format!("{stem}.csv"));
+    write_file(&jsonl, sweep::to_jsonl(&results).as_bytes())?;
+    write_file(&csv, sweep::to_csv(&results, &keys(&grid)).as_bytes())?;
+    writeln!(
+        out,
+        "{}: {} of {} cells in {:.2} s ({:.0} cells/s): {}; wrote {} and {}",
+        grid.name,
+        results.len(),
+        grid.len(),
+        elapsed.as_secs_f64(),
+        results.len() as f64 / elapsed.as_secs_f64().max(1e-9),
+        counts(&results),
+        jsonl.display(),
+        csv.display()
+    )?;
+    Ok(Exit::Pass)
 }
 
+/// A progress bar over `len` cells (drawn on stderr, and only on a terminal).
 fn progress(len: usize) -> ProgressBar {
     let bar = ProgressBar::new(len as u64);
     bar.set_style(
@@ -56,7 +86,8 @@ fn progress(len: usize) -> ProgressBar {
     bar
 }
 
-fn run_grid(grid: &Grid, shard: Shard, runs: usize, seed: u64) -> Result<Vec<CellResult>> {
+/// Analyses the cells of `grid` that `shard` owns, showing progress.
+pub fn run_grid(grid: &Grid, shard: Shard, runs: usize, seed: u64) -> Result<Vec<CellResult>> {
     let owned = (0..grid.len()).filter(|&c| shard.owns(c)).count();
     let bar = progress(owned);
     let results = grid
@@ -66,7 +97,8 @@ fn run_grid(grid: &Grid, shard: Shard, runs: usize, seed: u64) -> Result<Vec<Cel
     Ok(results)
 }
 
-fn counts(results: &[CellResult]) -> String {
+/// `N certified, N refuted, N inconclusive`.
+pub fn counts(results: &[CellResult]) -> String {
     let n = |v: Verdict| results.iter().filter(|r| r.verdict == v).count();
     format!(
         "{} certified, {} refuted, {} inconclusive",
@@ -76,160 +108,7 @@ fn counts(results: &[CellResult]) -> String {
     )
 }
 
-fn keys(grid: &Grid) -> Vec<String> {
+/// The grid's axis keys, in order (the CSV's leading columns).
+pub fn keys(grid: &Grid) -> Vec<String> {
     grid.axes.iter().map(|(k, _)| k.clone()).collect()
-}
-
-fn write(path: &Path, text: &str) -> Result<()> {
-    write_atomic(path, text.as_bytes()).with_context(|| format!("writing {}", path.display()))
-}
-
-/// Runs `safereach sweep`.
-pub fn run(args: SweepArgs) -> Result<ExitCode> {
-    let grid = Grid::load(&args.grid)?;
-    let shard = match &args.shard {
-        Some(s) => Shard::parse(s).map_err(anyhow::Error::msg)?,
-        None => Shard::ALL,
-    };
-    let runs = args.runs.unwrap_or(grid.runs);
-    let seed = args.seed.unwrap_or(grid.seed);
-    let start = Instant::now();
-    let results = run_grid(&grid, shard, runs, seed)?;
-    let elapsed = start.elapsed();
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let stem = if shard == Shard::ALL {
-        grid.name.clone()
-    } else {
-        format!("{}.shard-{}-of-{}", grid.name, shard.index, shard.count)
-    };
-    let jsonl = args.out.join(format!("{stem}.jsonl"));
-    let csv = args.out.join(format!("{stem}.csv"));
-    write(&jsonl, &sweep::to_jsonl(&results))?;
-    write(&csv, &sweep::to_csv(&results, &keys(&grid)))?;
-    outln!(
-        "{}: {} of {} cells in {:.2} s ({:.0} cells/s): {}; wrote {} and {}",
-        grid.name,
-        results.len(),
-        grid.len(),
-        elapsed.as_secs_f64(),
-        results.len() as f64 / elapsed.as_secs_f64().max(1e-9),
-        counts(&results),
-        jsonl.display(),
-        csv.display()
-    );
-    Ok(ExitCode::SUCCESS)
-}
-
-/// Results for a grid merged from the `--from` directories (whole sweeps or shards).
-fn merged(grid: &Grid, dirs: &[PathBuf]) -> Result<Vec<CellResult>> {
-    let keys = keys(grid);
-    let mut parts = Vec::new();
-    for dir in dirs {
-        let entries =
-            std::fs::read_dir(dir).with_context(|| format!("reading {}", dir.display()))?;
-        let mut files: Vec<PathBuf> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                let name = p
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                name == format!("{}.jsonl", grid.name)
-                    || (name.starts_with(&format!("{}.shard-", grid.name))
-                        && name.ends_with(".jsonl"))
-            })
-            .collect();
-        files.sort();
-        for f in files {
-            let text =
-                std::fs::read_to_string(&f).with_context(|| format!("reading {}", f.display()))?;
-            parts.push(
-                sweep::from_jsonl(&text, &keys, &f.display().to_string())
-                    .map_err(anyhow::Error::msg)?,
-            );
-        }
-    }
-    if parts.is_empty() {
-        bail!("no results for grid {} in {:?}", grid.name, dirs);
-    }
-    sweep::merge(grid, parts).map_err(|e| anyhow::anyhow!("grid {}: {e}", grid.name))
-}
-
-/// Speeds at which the report draws ρ*(W): 0 to a little past the grid's fastest, by 0.01.
-fn curve_speeds(grid: &Grid) -> Vec<f64> {
-    let top = grid
-        .axes
-        .iter()
-        .filter(|(k, _)| k == "environment.obstacle_speed")
-        .flat_map(|(_, v)| {
-            v.iter()
-                .filter_map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64)))
-        })
-        .fold(0.0, f64::max);
-    if top <= 0.0 {
-        return Vec::new();
-    }
-    let steps = ((top + 0.05) / 0.01).round() as usize;
-    (0..=steps)
-        .map(|i| (i as f64 * 0.01 * 100.0).round() / 100.0)
-        .collect()
-}
-
-/// Runs `safereach report`.
-pub fn report_cmd(args: ReportArgs) -> Result<ExitCode> {
-    let grids = if args.grids.is_empty() {
-        let mut found: Vec<PathBuf> = std::fs::read_dir("problems")
-            .context("reading problems/ (run from the repository root, or name the grid files)")?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                let n = p
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                n.contains("grid") && n.ends_with(".toml")
-            })
-            .collect();
-        found.sort();
-        found
-    } else {
-        args.grids.clone()
-    };
-    if grids.is_empty() {
-        bail!("no grid files found");
-    }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    for path in grids {
-        let grid = Grid::load(&path)?;
-        let results = if args.from.is_empty() {
-            run_grid(&grid, Shard::ALL, grid.runs, grid.seed)?
-        } else {
-            merged(&grid, &args.from)?
-        };
-        let curve =
-            report::radius_curve(&grid, &curve_speeds(&grid)).map_err(anyhow::Error::msg)?;
-        let rep = report::grid_report(&grid, &results, &curve);
-        let md = args.out.join(format!("{}.md", grid.name));
-        write(&md, &rep.markdown)?;
-        for (name, svg) in &rep.figures {
-            write(&args.out.join(name), svg)?;
-        }
-        write(
-            &args.out.join(format!("{}.jsonl", grid.name)),
-            &sweep::to_jsonl(&results),
-        )?;
-        write(
-            &args.out.join(format!("{}.csv", grid.name)),
-            &sweep::to_csv(&results, &keys(&grid)),
-        )?;
-        outln!(
-            "{}: {} cells ({}); wrote {}",
-            grid.name,
-            results.len(),
-            counts(&results),
-            md.display()
-        );
-    }
-    Ok(ExitCode::SUCCESS)
 }

@@ -1,0 +1,42 @@
+//! `safereach check`: re-verifies a certificate in exact arithmetic, without the solver, so
+//! a verdict can be trusted without trusting the analyser that produced it.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::Result;
+
+use safereach::proof::certificate;
+
+use super::exit::Exit;
+use super::input::{self, Unreadable};
+use super::output::Output;
+
+/// Arguments of `safereach check`.
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    /// Certificate file (JSON).
+    certificate: PathBuf,
+}
+
+/// Runs `safereach check`: exit 0 valid, 1 invalid.
+pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
+    let path = &args.certificate;
+    let cert = input::certificate(path, Unreadable::Reading)?;
+    match certificate::check(&cert) {
+        Ok(report) => {
+            writeln!(
+                out,
+                "{}: valid; verdict {} re-verified in exact arithmetic over {} pieces",
+                path.display(),
+                report.verdict.as_str(),
+                report.pieces
+            )?;
+            Ok(Exit::Pass)
+        }
+        Err(e) => {
+            writeln!(out, "{}: INVALID: {e}", path.display())?;
+            Ok(Exit::Fail)
+        }
+    }
+}

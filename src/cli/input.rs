@@ -1,0 +1,39 @@
+//! What commands read: problem files with `--set` overrides, and certificates. One loader
+//! and one reader, so every command names the file (and the key, and the reason) the same
+//! way when the input is bad, and exits 2.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+use safereach::core::model::Problem;
+use safereach::proof::certificate::Certificate;
+
+/// Reads the problem file at `path` and applies `sets` (`dotted.key=value`, in order). The
+/// error names the file, or the override, the key and the reason.
+pub fn problem(path: &Path, sets: &[String]) -> Result<Problem> {
+    Ok(Problem::load_with_overrides(path, sets)?)
+}
+
+/// How an unreadable certificate file is named in the error. `check` and
+/// `simulate --replay` have always said `reading FILE: <reason>`, `monitor`
+/// `FILE: cannot read the certificate: <reason>`; the two are kept so that every command's
+/// messages stay as they were.
+#[derive(Clone, Copy)]
+pub enum Unreadable {
+    /// `reading FILE: <reason>`.
+    Reading,
+    /// `FILE: cannot read the certificate: <reason>`.
+    CannotRead,
+}
+
+/// Reads and parses the certificate at `path` (JSON, as `certify --out` writes it). It is
+/// not checked here: that is `check`'s job, or the caller's.
+pub fn certificate(path: &Path, unreadable: Unreadable) -> Result<Certificate> {
+    let text = std::fs::read_to_string(path).with_context(|| match unreadable {
+        Unreadable::Reading => format!("reading {}", path.display()),
+        Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
+    })?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a safereach certificate", path.display()))
+}
