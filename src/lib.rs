@@ -13,25 +13,41 @@
 //! about obstacles), the real bound W (what the environment does) and the reaction radius ρ
 //! (the robot reacts to obstacles it sees at a gap in (0, ρ]). The controller brakes on
 //! *collision danger* (observed gap ≤ d_coll(v)) or, optionally, on a *wrong assumption*
-//! (an obstacle in the area seen faster than V_a). DESIGN.md §1 is the exact semantics;
-//! [`semantics`] implements it once for every engine.
+//! (an obstacle in the area seen faster than V_a). `docs/semantics.md` in the repository is
+//! the exact semantics; [`core::semantics`] implements it once for every engine.
 //!
 //! **Verdicts** are three-valued:
 //! - `certified`: a lower bound on the worst-case minimum separation s*, re-verified in exact
-//!   rational arithmetic without the solver ([`certificate::check`]), exceeds the clearance;
+//!   rational arithmetic without the solver ([`check`]), exceeds the clearance;
 //! - `refuted`: a concrete obstacle behaviour, replayed exactly through the semantics,
 //!   collides;
 //! - `inconclusive`: neither (the boundary, within numerical tolerance). Never a false
 //!   `certified`.
 //!
-//! The analyser ([`analysis`]) splits all behaviours into finitely many *pieces* by the
-//! robot's discrete schedule ([`schedule`]); each piece is a tiny linear program
-//! ([`program`]) solved by Clarabel ([`lp`]), whose dual multipliers become the certificate.
+//! The analyser (`analysis`, feature `solver`) splits all behaviours into finitely many
+//! *pieces* by the robot's discrete schedule ([`proof::schedule`]); each piece is a tiny
+//! conic program ([`proof::program`]) solved by Clarabel, whose dual multipliers become the
+//! certificate.
+//!
+//! # Layers
+//!
+//! Each layer imports only the ones above it in this list:
+//! - [`core`]: numbers, exact rationals, the problem model, the semantics, the simulator;
+//! - [`proof`]: programs with typed cones and parameter-affine data, exact bounds, the
+//!   certificate format and [`check`] — no solver;
+//! - `analysis` (feature `solver`, on by default): Clarabel, witnesses, radius, sweeps,
+//!   reports;
+//! - [`monitor`]: premise checks over live traces — no solver;
+//! - [`crosscheck`]: the exhaustive explorer and the UPPAAL export.
+//!
+//! With `default-features = false` the crate builds the model, the semantics, the
+//! certificate check and the monitor only, with none of the solver's or the command line's
+//! dependencies: what a robot embeds.
+//!
+//! The items below are the facade most users need; the layers hold the rest.
 
 //! ```
-//! use safereach::analysis::{Verdict, analyse};
-//! use safereach::proof::certificate::{Certificate, check};
-//! use safereach::core::model::Problem;
+//! use safereach::{Certificate, Problem, Verdict, analyse, check};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"))?;
@@ -54,3 +70,14 @@ pub mod core;
 pub mod crosscheck;
 pub mod monitor;
 pub mod proof;
+
+pub use crate::core::model::{Problem, ProblemError};
+pub use crate::core::parameter::{ParamAffine, Parameter};
+pub use crate::monitor::Monitor;
+pub use crate::proof::certificate::{Certificate, CheckReport, Invalid, Premise, check};
+pub use crate::proof::verdict::{Verdict, Witness};
+
+#[cfg(feature = "solver")]
+pub use crate::analysis::radius::{Boundary, max_speed, safe_radius};
+#[cfg(feature = "solver")]
+pub use crate::analysis::{Analysis, AnalysisError, Options, WitnessPolicy, analyse, analyse_with};

@@ -118,66 +118,31 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
     let dec = Decomposition::new(problem);
     let mut solved = 0;
     let programs: Vec<Program> = dec.pieces.iter().map(|piece| dec.program(piece)).collect();
-    let mut outcomes = Vec::with_capacity(dec.pieces.len());
-    for (piece, program) in dec.pieces.iter().zip(&programs) {
-        let result = prove(program, piece, &mut solved);
-        outcomes.push(PieceOutcome {
-            piece: *piece,
-            result,
-        });
-    }
-    let params: Params<Exact> = dec.params.clone();
-    let (mut lower_bound, mut certified) = least_bound(&outcomes, &params);
-
-    // Candidates for the worst case, most dangerous first.
-    let mut candidates: Vec<(f64, usize)> = outcomes
+    let mut outcomes: Vec<PieceOutcome> = dec
+        .pieces
         .iter()
-        .enumerate()
-        .filter_map(|(i, o)| match &o.result {
-            PieceResult::Proved {
-                optimum: Some((v, _)),
-                kind: ProofKind::Bound,
-                ..
-            } => Some((*v, i)),
-            PieceResult::Unproved { point: Some(_), .. } if !o.piece.has_objective() => {
-                Some((f64::NEG_INFINITY, i))
-            }
-            _ => None,
+        .zip(&programs)
+        .map(|(piece, program)| PieceOutcome {
+            piece: *piece,
+            result: prove(program, piece, &mut solved),
         })
         .collect();
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut witness = None;
-    let mut min_separation = None;
-    let mut never_stops = false;
-    let skip = certified && options.witness == WitnessPolicy::ToRefute;
-    if skip {
-        min_separation = candidates.first().map(|c| c.0);
-    }
-    let mut emptied = false;
-    for &(value, i) in candidates.iter().filter(|_| !skip) {
-        let piece = &outcomes[i].piece;
-        if let Some(w) = extract_witness(&dec, piece, &programs[i], value, &mut solved) {
-            never_stops = !piece.has_objective();
-            min_separation = if never_stops { None } else { Some(value) };
-            witness = Some(w);
-            break;
+    let params: Params<Exact> = dec.params.clone();
+    let (mut lower_bound, mut certified) = least_bound(&outcomes, &params);
+    let candidates = worst_case_candidates(&outcomes);
+    let realised = if certified && options.witness == WitnessPolicy::ToRefute {
+        Realised {
+            min_separation: candidates.first().map(|c| c.0),
+            ..Realised::default()
         }
-        // No behaviour realises this piece's optimum: it may hold only on a guard's
-        // boundary, where the semantics' strict inequality excludes it. Prove that exactly.
-        if let Some((z, bound)) = prove_strictly_empty(&programs[i], &mut solved) {
-            outcomes[i].result = PieceResult::Proved {
-                kind: ProofKind::Infeasible,
-                z,
-                bound,
-                optimum: None,
-            };
-            emptied = true;
+    } else {
+        let r = realise_worst_case(&dec, &programs, &mut outcomes, &candidates, &mut solved);
+        if r.emptied {
+            (lower_bound, certified) = least_bound(&outcomes, &params);
         }
-    }
-    if emptied {
-        (lower_bound, certified) = least_bound(&outcomes, &params);
-    }
-    let collides = witness.as_ref().is_some_and(|w| w.collides);
+        r
+    };
+    let collides = realised.witness.as_ref().is_some_and(|w| w.collides);
     if certified && collides {
         return Err(AnalysisError::Inconsistent(
             "a certified bound above the clearance and a colliding witness".into(),
@@ -195,12 +160,76 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
         decomposition: dec,
         outcomes,
         lower_bound,
-        min_separation,
-        never_stops,
-        witness,
+        min_separation: realised.min_separation,
+        never_stops: realised.never_stops,
+        witness: realised.witness,
         verdict,
         programs_solved: solved,
     })
+}
+
+/// Candidates for the worst case, most dangerous first: (optimum, outcome index), with a
+/// feasible pass-through (the robot never brakes) at −∞.
+fn worst_case_candidates(outcomes: &[PieceOutcome]) -> Vec<(f64, usize)> {
+    let mut candidates: Vec<(f64, usize)> = outcomes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| match &o.result {
+            PieceResult::Proved {
+                optimum: Some((v, _)),
+                kind: ProofKind::Bound,
+                ..
+            } => Some((*v, i)),
+            PieceResult::Unproved { point: Some(_), .. } if !o.piece.has_objective() => {
+                Some((f64::NEG_INFINITY, i))
+            }
+            _ => None,
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    candidates
+}
+
+/// The worst case as far as a replayed behaviour realises it.
+#[derive(Default)]
+struct Realised {
+    witness: Option<Witness>,
+    min_separation: Option<f64>,
+    never_stops: bool,
+    /// Some piece was proved empty on the way (the least bound must be recomputed).
+    emptied: bool,
+}
+
+/// Tries the candidates in order until one yields a witness that replays to its optimum;
+/// a piece whose optimum no behaviour realises is proved empty (it may hold only on a
+/// guard's boundary, which the semantics' strict inequality excludes).
+fn realise_worst_case(
+    dec: &Decomposition,
+    programs: &[Program],
+    outcomes: &mut [PieceOutcome],
+    candidates: &[(f64, usize)],
+    solved: &mut usize,
+) -> Realised {
+    let mut out = Realised::default();
+    for &(value, i) in candidates {
+        let piece = &outcomes[i].piece;
+        if let Some(w) = extract_witness(dec, piece, &programs[i], value, solved) {
+            out.never_stops = !piece.has_objective();
+            out.min_separation = if out.never_stops { None } else { Some(value) };
+            out.witness = Some(w);
+            break;
+        }
+        if let Some((z, bound)) = prove_strictly_empty(&programs[i], solved) {
+            outcomes[i].result = PieceResult::Proved {
+                kind: ProofKind::Infeasible,
+                z,
+                bound,
+                optimum: None,
+            };
+            out.emptied = true;
+        }
+    }
+    out
 }
 
 /// The least proved bound over all pieces (None: some piece is unproved) and whether it

@@ -5,6 +5,6 @@ pub mod model;
 pub mod num;
 pub mod output;
 pub mod parameter;
-pub mod rational;
+pub(crate) mod rational;
 pub mod semantics;
 pub mod simulate;

@@ -80,94 +80,73 @@ impl<N: Scalar> Motion<N> {
 /// clamped at v_max and at 0 inside the period (a robot that stops mid-period has moved
 /// v²/(2b), not v·dt). The mode in `state` is the one chosen at the period's start.
 pub fn robot_motion<N: Scalar>(p: &Params<N>, state: &RobotState<N>) -> Motion<N> {
-    let dt = &p.dt;
-    let k = &p.k;
     let x = state.position.clone();
     let v = state.speed.clone();
     match state.mode {
-        Mode::Accelerate | Mode::Drive if v >= p.v_max => Motion {
-            end: RobotState {
-                position: x + k.v_max_dt.clone(),
-                speed: p.v_max.clone(),
-                mode: Mode::Drive,
-            },
-            moving_for: dt.clone(),
-        },
-        Mode::Accelerate => {
-            if p.v_max.clone() - v.clone() <= k.a_dt {
-                // Reaches v_max inside the period (after `reach`), then cruises.
-                let reach = (p.v_max.clone() - v.clone()) / p.a.clone();
-                let position = x
-                    + v * reach.clone()
-                    + k.half.clone() * p.a.clone() * reach.clone() * reach.clone()
-                    + p.v_max.clone() * (dt.clone() - reach);
-                Motion {
-                    end: RobotState {
-                        position,
-                        speed: p.v_max.clone(),
-                        mode: Mode::Drive,
-                    },
-                    moving_for: dt.clone(),
-                }
-            } else {
-                let position = x + v.clone() * dt.clone() + k.half_a_dt2.clone();
-                Motion {
-                    end: RobotState {
-                        position,
-                        speed: v + k.a_dt.clone(),
-                        mode: Mode::Accelerate,
-                    },
-                    moving_for: dt.clone(),
-                }
-            }
-        }
-        Mode::Drive => Motion {
-            end: RobotState {
-                position: x + v.clone() * dt.clone(),
-                speed: v,
-                mode: Mode::Drive,
-            },
-            moving_for: dt.clone(),
-        },
-        Mode::Brake => {
-            if v <= N::zero() {
-                return Motion {
-                    end: RobotState {
-                        position: x,
-                        speed: N::zero(),
-                        mode: Mode::Stop,
-                    },
-                    moving_for: N::zero(),
-                };
-            }
-            if v <= k.b_dt {
-                // Stops inside the period, after v/b, having moved v²/(2b).
-                let stop = v.clone() / p.b.clone();
-                let position = x + k.half.clone() * v * stop.clone();
-                Motion {
-                    end: RobotState {
-                        position,
-                        speed: N::zero(),
-                        mode: Mode::Stop,
-                    },
-                    moving_for: stop,
-                }
-            } else {
-                let position = x + v.clone() * dt.clone() - k.half_b_dt2.clone();
-                Motion {
-                    end: RobotState {
-                        position,
-                        speed: v - k.b_dt.clone(),
-                        mode: Mode::Brake,
-                    },
-                    moving_for: dt.clone(),
-                }
-            }
-        }
+        Mode::Accelerate | Mode::Drive if v >= p.v_max => Motion::to(
+            x + p.k.v_max_dt.clone(),
+            p.v_max.clone(),
+            Mode::Drive,
+            p.dt.clone(),
+        ),
+        Mode::Accelerate => accelerate(p, x, v),
+        Mode::Drive => Motion::to(x + v.clone() * p.dt.clone(), v, Mode::Drive, p.dt.clone()),
+        Mode::Brake => brake(p, x, v),
         Mode::Idle | Mode::Stop => Motion {
             end: state.clone(),
             moving_for: N::zero(),
         },
+    }
+}
+
+impl<N: Scalar> Motion<N> {
+    /// A motion ending at `position` with `speed` in `mode`, having moved for `moving_for`.
+    #[inline]
+    fn to(position: N, speed: N, mode: Mode, moving_for: N) -> Self {
+        Motion {
+            end: RobotState {
+                position,
+                speed,
+                mode,
+            },
+            moving_for,
+        }
+    }
+}
+
+/// One period in Accelerate below v_max: reach v_max inside it and cruise, or gain a·dt.
+#[inline]
+fn accelerate<N: Scalar>(p: &Params<N>, x: N, v: N) -> Motion<N> {
+    let (dt, k) = (&p.dt, &p.k);
+    if p.v_max.clone() - v.clone() <= k.a_dt {
+        // Reaches v_max inside the period (after `reach`), then cruises.
+        let reach = (p.v_max.clone() - v.clone()) / p.a.clone();
+        let position = x
+            + v * reach.clone()
+            + k.half.clone() * p.a.clone() * reach.clone() * reach.clone()
+            + p.v_max.clone() * (dt.clone() - reach);
+        Motion::to(position, p.v_max.clone(), Mode::Drive, dt.clone())
+    } else {
+        let position = x + v.clone() * dt.clone() + k.half_a_dt2.clone();
+        Motion::to(position, v + k.a_dt.clone(), Mode::Accelerate, dt.clone())
+    }
+}
+
+/// One period in Brake: at rest already, stop inside the period, or lose b·dt.
+#[inline]
+fn brake<N: Scalar>(p: &Params<N>, x: N, v: N) -> Motion<N> {
+    let (dt, k) = (&p.dt, &p.k);
+    if v <= N::zero() {
+        return Motion::to(x, N::zero(), Mode::Stop, N::zero());
+    }
+    if v <= k.b_dt {
+        // Stops inside the period, after v/b, having moved v²/(2b).
+        let stop = v.clone() / p.b.clone();
+        let position = x + k.half.clone() * v * stop.clone();
+        Motion::to(position, N::zero(), Mode::Stop, stop)
+    } else {
+        let position = x + v.clone() * dt.clone() - k.half_b_dt2.clone();
+        Motion::to(position, v - k.b_dt.clone(), Mode::Brake, dt.clone())
     }
 }
 

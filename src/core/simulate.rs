@@ -120,7 +120,7 @@ pub fn replay_exact(
     )
 }
 
-/// A witness replay: exact like [`replay_exact`], computed with [`Rational`] (machine words
+/// A witness replay: exact like [`replay_exact`], computed with `Rational` (machine words
 /// while the numbers fit, several times faster on long runs).
 #[derive(Clone, Debug)]
 pub struct Replay {
@@ -152,7 +152,7 @@ impl Replay {
     }
 }
 
-/// Replays obstacle speeds exactly, as [`replay_exact`] does, in [`Rational`] numbers.
+/// Replays obstacle speeds exactly, as [`replay_exact`] does, in `Rational` numbers.
 pub fn replay(
     params: &Params<Exact>,
     speeds: &[f64],

@@ -135,7 +135,7 @@ pub struct Decomposition {
     pub first_brake: usize,
     /// No piece brakes at or after this step: the robot alone has reached the obstacle's
     /// start by then. (Merged pieces stand for every later shift below it.)
-    pub last_brake: usize,
+    pub(crate) last_brake: usize,
     /// All pieces, in a fixed order (the certificate lists proofs in this order).
     pub pieces: Vec<Piece>,
     /// Time and distance to stop when braking from v_max (shared by every cruising piece).
@@ -388,7 +388,7 @@ impl Decomposition {
     /// The drive-profile state at step k's start. Past the cruise onset the robot drives
     /// at v_max, so the state is the cruise state moved k − cruise_from steps (what
     /// iterating [`robot_motion`] in Drive gives; a test holds the two equal).
-    pub fn drive(&self, k: usize) -> RobotState<Exact> {
+    pub(crate) fn drive(&self, k: usize) -> RobotState<Exact> {
         match self.profile.get(k) {
             Some(s) => s.clone(),
             None => {
@@ -405,7 +405,7 @@ impl Decomposition {
     }
 
     /// The anchor index m of a piece: the first gap index any of its rows mentions.
-    pub fn anchor(&self, piece: &Piece) -> usize {
+    pub(crate) fn anchor(&self, piece: &Piece) -> usize {
         let l = self.params.L;
         match piece.entry {
             // An early piece's rows start at o_E ≤ ρ, its own entry's at o_{E−1} > ρ.

@@ -64,7 +64,7 @@ pub(super) fn show_known(known: &[String]) -> String {
 /// Why a problem could not be read or is not a valid problem.
 ///
 /// Every variant names its origin: the file's path, the text's origin given to
-/// [`Problem::from_toml_str`], or the offending `--set key=value`. The first line of the
+/// [`Problem::from_toml_str`](crate::core::model::Problem::from_toml_str), or the offending `--set key=value`. The first line of the
 /// message is self-contained; some messages add a pointer into the file below it.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -131,7 +131,7 @@ pub enum ProblemError {
 }
 
 impl ProblemError {
-    /// Where the error comes from: a path, an origin given to [`Problem::from_toml_str`],
+    /// Where the error comes from: a path, an origin given to [`Problem::from_toml_str`](crate::core::model::Problem::from_toml_str),
     /// or `--set key=value`.
     pub fn origin(&self) -> &str {
         match self {

@@ -1,7 +1,7 @@
 //! Problem files: the robot, its controller and the environment, in SI units.
 //!
 //! A [`Problem`] is what a user writes in TOML; [`Params`] is the same problem as numbers of
-//! a chosen [`Scalar`] type, after validation. Exact parameters are the decimals the file
+//! a chosen [`Scalar`](crate::core::num::Scalar) type, after validation. Exact parameters are the decimals the file
 //! states (see [`crate::core::num::exact_decimal`]), so `0.1` s is one tenth of a second.
 //!
 //! # Reading problems
