@@ -1,5 +1,5 @@
-//! Where the tests find the crate's own files: the manifest directory and the shipped
-//! problem files, by absolute path (tests run in temporary directories).
+//! Where the tests find the crate's own files: the manifest directory, the shipped problem
+//! files and the committed fixtures, by absolute path (tests run in temporary directories).
 
 use std::path::PathBuf;
 
@@ -24,4 +24,9 @@ pub fn seed_file() -> PathBuf {
 pub fn load_problem(name: &str, sets: &[&str]) -> Problem {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     Problem::load_with_overrides(&problem_file(name), &sets).expect("problem loads")
+}
+
+/// `tests/fixtures/<name>`.
+pub fn fixture(name: &str) -> PathBuf {
+    root().join("tests").join("fixtures").join(name)
 }
