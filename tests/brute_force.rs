@@ -39,11 +39,17 @@ use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use safereach::analysis::lp::{self, LpOutcome};
 use safereach::analysis::{Analysis, Verdict, analyse};
-use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::model::{DangerRule, Params, Problem};
 use safereach::core::num::{Exact, exact_float, f64_at_most};
 use safereach::core::semantics::{Mode, RobotState, World, robot_motion};
 use safereach::proof::program::{Program, Row, Var};
 use safereach::proof::schedule::Ending;
+
+/// The problem builder the integration tests use (tests/it/common/spec.rs); this binary
+/// uses only its [`spec::Spec`] (this file's own `Spec` is an oracle program).
+#[allow(dead_code)]
+#[path = "it/common/spec.rs"]
+mod spec;
 
 /// Agreement tolerance on s* (m).
 const TOL: f64 = 1e-7;
@@ -59,95 +65,51 @@ const REALISED: f64 = 1e-6;
 // ------------------------------------------------------------------------------------------
 
 /// A small problem, every number an integer over a fixed denominator (so the decimal the
-/// library reads is the intended rational).
-#[derive(Clone, Debug)]
-struct Case {
-    /// v_max in 1/10 m/s.
-    v_max: u32,
-    /// a in 1/10 m/s².
-    a: u32,
-    /// b in 1/10 m/s².
-    b: u32,
-    /// dt in 1/100 s.
-    dt: u32,
-    latency: u32,
-    /// clearance in 1/100 m.
-    clearance: u32,
-    /// V_a in 1/100 m/s.
-    v_a: u32,
-    /// ρ in 1/10 m.
-    rho: u32,
-    rule: DangerRule,
-    /// buffer in 1/100 m.
-    buffer: u32,
-    wa: bool,
-    /// W in 1/100 m/s.
-    w: u32,
-    /// initial gap in 1/100 m.
-    g0: u32,
-}
+/// library reads is the intended rational). The numbers in the order [`TABLE`] writes them:
+/// v_max (1/10 m/s), a (1/10 m/s²), b (1/10 m/s²), dt (1/100 s), latency (periods),
+/// clearance (1/100 m), V_a (1/100 m/s), ρ (1/10 m), the danger rule, buffer (1/100 m), the
+/// wrong-assumption guard, W (1/100 m/s), initial gap (1/100 m).
+#[derive(Clone, Copy, Debug)]
+struct Case(
+    u32,
+    u32,
+    u32,
+    u32,
+    u32,
+    u32,
+    u32,
+    u32,
+    DangerRule,
+    u32,
+    bool,
+    u32,
+    u32,
+);
 
 impl Case {
     fn problem(&self) -> Problem {
+        let Case(v_max, a, b, dt, latency, clearance, v_a, rho, rule, buffer, wab, w, g0) = *self;
         let d = |n: u32, den: f64| f64::from(n) / den;
-        let p = Problem {
-            name: "brute".into(),
-            robot: Robot {
-                max_speed: d(self.v_max, 10.0),
-                acceleration: d(self.a, 10.0),
-                braking: d(self.b, 10.0),
-                control_period: d(self.dt, 100.0),
-                latency: self.latency,
-                clearance: d(self.clearance, 100.0),
-            },
-            controller: Controller {
-                assumed_obstacle_speed: d(self.v_a, 100.0),
-                reaction_radius: d(self.rho, 10.0),
-                danger_rule: self.rule,
-                buffer: d(self.buffer, 100.0),
-                wrong_assumption_brake: self.wa,
-            },
-            environment: Environment {
-                obstacle_speed: d(self.w, 100.0),
-                initial_gap: d(self.g0, 100.0),
-            },
-        };
+        let p = spec::Spec {
+            name: "brute",
+            v_max: d(v_max, 10.0),
+            a: d(a, 10.0),
+            b: d(b, 10.0),
+            dt: d(dt, 100.0),
+            latency,
+            clearance: d(clearance, 100.0),
+            v_a: d(v_a, 100.0),
+            rho: d(rho, 10.0),
+            rule,
+            buffer: d(buffer, 100.0),
+            wab,
+            w: d(w, 100.0),
+            g0: d(g0, 100.0),
+        }
+        .build();
         p.validate("brute-force case")
             .unwrap_or_else(|e| panic!("{self:?} is not a valid problem: {e}"));
         p
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-const fn case(
-    v_max: u32,
-    a: u32,
-    b: u32,
-    dt: u32,
-    latency: u32,
-    clearance: u32,
-    v_a: u32,
-    rho: u32,
-    rule: DangerRule,
-    buffer: u32,
-    wa: bool,
-    w: u32,
-    g0: u32,
-) -> Case {
-    Case {
-        v_max,
-        a,
-        b,
-        dt,
-        latency,
-        clearance,
-        v_a,
-        rho,
-        rule,
-        buffer,
-        wa,
-        w,
-        g0,
     }
 }
 
@@ -158,34 +120,34 @@ use DangerRule::{Area, Kinematic, Paper};
 /// robot that never moves, and exact boundaries (decimal numbers that meet exactly).
 const TABLE: &[Case] = &[
     // The seed's robot and controller, short gaps.
-    case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, true, 15, 250),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, true, 30, 250),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, false, 30, 250),
-    case(8, 4, 5, 10, 0, 0, 20, 14, Paper, 10, true, 15, 200),
-    case(8, 4, 5, 10, 2, 0, 20, 14, Paper, 10, true, 25, 240),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Kinematic, 10, true, 15, 250),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Kinematic, 10, true, 40, 250),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Area, 10, true, 15, 250),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Area, 10, true, 40, 250),
-    case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, true, 0, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, true, 15, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, true, 30, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, false, 30, 250),
+    Case(8, 4, 5, 10, 0, 0, 20, 14, Paper, 10, true, 15, 200),
+    Case(8, 4, 5, 10, 2, 0, 20, 14, Paper, 10, true, 25, 240),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Kinematic, 10, true, 15, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Kinematic, 10, true, 40, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Area, 10, true, 15, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Area, 10, true, 40, 250),
+    Case(8, 4, 5, 10, 1, 0, 20, 14, Paper, 10, true, 0, 250),
     // A cruising robot (fast acceleration), brake-on-entry, latency 0.
-    case(5, 10, 5, 10, 0, 0, 20, 10, Area, 0, false, 20, 200),
-    case(5, 10, 5, 10, 0, 0, 20, 10, Area, 0, true, 30, 200),
+    Case(5, 10, 5, 10, 0, 0, 20, 10, Area, 0, false, 20, 200),
+    Case(5, 10, 5, 10, 0, 0, 20, 10, Area, 0, true, 30, 200),
     // Still accelerating throughout (slow acceleration).
-    case(10, 2, 4, 10, 1, 0, 10, 8, Paper, 5, true, 20, 150),
-    case(10, 2, 4, 20, 2, 0, 10, 8, Kinematic, 5, true, 20, 150),
-    case(10, 2, 4, 15, 0, 5, 10, 8, Paper, 5, false, 30, 120),
+    Case(10, 2, 4, 10, 1, 0, 10, 8, Paper, 5, true, 20, 150),
+    Case(10, 2, 4, 20, 2, 0, 10, 8, Kinematic, 5, true, 20, 150),
+    Case(10, 2, 4, 15, 0, 5, 10, 8, Paper, 5, false, 30, 120),
     // Stops mid-step (v/b not a multiple of dt) and exactly at a step's end.
-    case(7, 7, 3, 10, 1, 0, 15, 12, Paper, 10, true, 10, 220),
-    case(5, 5, 5, 10, 1, 0, 15, 12, Paper, 10, true, 10, 220),
+    Case(7, 7, 3, 10, 1, 0, 15, 12, Paper, 10, true, 10, 220),
+    Case(5, 5, 5, 10, 1, 0, 15, 12, Paper, 10, true, 10, 220),
     // The robot never moves: the guard fires at step 0 while it is at rest.
-    case(8, 4, 5, 10, 0, 0, 20, 10, Paper, 40, true, 15, 30),
+    Case(8, 4, 5, 10, 0, 0, 20, 10, Paper, 40, true, 15, 30),
     // A reaction radius larger than the initial gap.
-    case(6, 4, 6, 20, 1, 0, 20, 30, Kinematic, 10, true, 30, 180),
+    Case(6, 4, 6, 20, 1, 0, 20, 30, Kinematic, 10, true, 30, 180),
     // Short gaps and fast obstacles: refuted cases, never-braking robots.
-    case(10, 8, 3, 20, 2, 0, 10, 5, Paper, 0, false, 60, 90),
-    case(10, 8, 3, 20, 2, 0, 10, 3, Area, 0, true, 60, 250),
-    case(10, 10, 10, 10, 0, 0, 10, 2, Area, 0, false, 50, 250),
+    Case(10, 8, 3, 20, 2, 0, 10, 5, Paper, 0, false, 60, 90),
+    Case(10, 8, 3, 20, 2, 0, 10, 3, Area, 0, true, 60, 250),
+    Case(10, 10, 10, 10, 0, 0, 10, 2, Area, 0, false, 50, 250),
 ];
 
 fn arbitrary_case() -> impl Strategy<Value = Case> {
@@ -210,20 +172,10 @@ fn arbitrary_case() -> impl Strategy<Value = Case> {
         30u32..=250,                                                         // g0
     );
     (robot, controller, environment).prop_map(
-        |((v_max, a, b, dt, latency, clearance), (v_a, rho, rule, buffer, wa), (w, g0))| Case {
-            v_max,
-            a,
-            b,
-            dt,
-            latency,
-            clearance,
-            v_a,
-            rho,
-            rule,
-            buffer,
-            wa,
-            w,
-            g0,
+        |((v_max, a, b, dt, latency, clearance), (v_a, rho, rule, buffer, wa), (w, g0))| {
+            Case(
+                v_max, a, b, dt, latency, clearance, v_a, rho, rule, buffer, wa, w, g0,
+            )
         },
     )
 }
@@ -1094,14 +1046,15 @@ fn random_sample_covers_the_space() {
         merged += usize::from(pieces().any(|p| p.merged));
         in_area += usize::from(pieces().any(|p| p.entry.is_some_and(|e| e < p.brake)));
         wrong += usize::from(pieces().any(|p| p.ending == Ending::WrongAssumption));
-        seen.insert(format!("{:?}", c.rule));
-        seen.insert(format!("L{}", c.latency));
+        let Case(.., latency, _, v_a, _, rule, _, wa, w, _) = *c;
+        seen.insert(format!("{:?}", rule));
+        seen.insert(format!("L{}", latency));
         seen.insert(format!(
             "wa={} W{}V_a",
-            c.wa,
-            if c.w > c.v_a { ">" } else { "<=" }
+            wa,
+            if w > v_a { ">" } else { "<=" }
         ));
-        if c.w == 0 {
+        if w == 0 {
             seen.insert("static".into());
         }
         let o = Oracle::new(&c.problem());

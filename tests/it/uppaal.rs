@@ -14,23 +14,20 @@
 //!   caught by the interpreter (it has teeth).
 
 use std::collections::{BTreeSet, HashMap};
-use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
 use roxmltree::{Document, Node};
-use safereach::core::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::core::model::{Controller, DangerRule, Problem};
 use safereach::core::num::Exact;
 use safereach::crosscheck::explore::{self, ExploreVerdict, Options, SpeedSet};
 use safereach::crosscheck::uppaal::{self, Decl, UppaalError, UppaalModel};
 
-fn problem_file(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
+use crate::common::cli::{bad_input_exits_2, files, safereach, stdout};
+use crate::common::paths::{load_problem, problem_file, seed_file};
+use crate::common::spec::Spec;
+use crate::common::tmp;
 
 fn seed() -> Problem {
-    Problem::load(&problem_file("seed.toml")).unwrap()
+    load_problem("seed.toml", &[])
 }
 
 fn export(p: &Problem, speeds: &str) -> UppaalModel {
@@ -38,32 +35,19 @@ fn export(p: &Problem, speeds: &str) -> UppaalModel {
     uppaal::export(p, &set).expect("the problem exports")
 }
 
-#[allow(clippy::too_many_arguments)]
+/// [`Spec::small`] with the numbers the tests vary.
 fn small(rule: DangerRule, latency: u32, w: f64, wab: bool, rho: f64, g0: f64) -> Problem {
-    let p = Problem {
-        name: "uppaal-test".into(),
-        robot: Robot {
-            max_speed: 0.4,
-            acceleration: 0.4,
-            braking: 0.5,
-            control_period: 0.2,
-            latency,
-            clearance: 0.0,
-        },
-        controller: Controller {
-            assumed_obstacle_speed: 0.2,
-            reaction_radius: rho,
-            danger_rule: rule,
-            buffer: 0.05,
-            wrong_assumption_brake: wab,
-        },
-        environment: Environment {
-            obstacle_speed: w,
-            initial_gap: g0,
-        },
-    };
-    p.validate("uppaal test").unwrap();
-    p
+    Spec {
+        name: "uppaal-test",
+        rule,
+        latency,
+        w,
+        wab,
+        rho,
+        g0,
+        ..Spec::small()
+    }
+    .problem()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -523,22 +507,9 @@ fn grids_beyond_32_bits_are_refused() {
 // The command
 // ---------------------------------------------------------------------------------------------
 
-fn safereach(dir: &Path) -> Command {
-    let mut cmd = Command::cargo_bin("safereach").unwrap();
-    cmd.current_dir(dir);
-    cmd
-}
-
-fn files(dir: &Path) -> BTreeSet<String> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect()
-}
-
 #[test]
 fn cli_writes_the_model_and_the_query_beside_it() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     let out = safereach(dir.path())
         .arg("export-uppaal")
         .arg(problem_file("seed.toml"))
@@ -547,7 +518,7 @@ fn cli_writes_the_model_and_the_query_beside_it() {
         .code(0)
         .get_output()
         .clone();
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = stdout(&out);
     assert!(text.contains("1 distance unit = 1/4000 m"), "{text}");
     assert_eq!(
         files(dir.path()),
@@ -559,7 +530,7 @@ fn cli_writes_the_model_and_the_query_beside_it() {
     let q = std::fs::read_to_string(dir.path().join("seed.q")).unwrap();
     assert!(q.contains("A[] not"));
     // Default name: the problem's, in the current directory.
-    let other = tempfile::tempdir().unwrap();
+    let other = tmp();
     safereach(other.path())
         .arg("export-uppaal")
         .arg(problem_file("static-obstacle.toml"))
@@ -574,30 +545,20 @@ fn cli_writes_the_model_and_the_query_beside_it() {
 
 #[test]
 fn cli_bad_input_exits_2() {
-    let dir = tempfile::tempdir().unwrap();
-    for (args, needle) in [
+    let dir = tmp();
+    let cases = [
         (vec!["--out", "model.q"], "must not end in .q"),
         (vec!["--speeds", "0.9"], "outside [0, W]"),
         (vec!["--speeds", "1/7919,1/7907,1/7901,0.15"], "32-bit"),
         (vec!["--out", "missing-dir/seed.xml"], "missing-dir"),
-    ] {
-        let out = safereach(dir.path())
-            .arg("export-uppaal")
-            .arg(problem_file("seed.toml"))
-            .args(&args)
-            .assert()
-            .code(2)
-            .get_output()
-            .clone();
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(err.contains(needle), "{args:?}: {err}");
-    }
+    ];
+    bad_input_exits_2(dir.path(), "export-uppaal", &seed_file(), &cases);
     assert!(files(dir.path()).is_empty(), "nothing written on error");
 }
 
 #[test]
 fn cli_explore_grid_answers_like_the_explorer() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     let grid = safereach(dir.path())
         .arg("explore")
         .arg(problem_file("seed.toml"))

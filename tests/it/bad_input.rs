@@ -2,10 +2,13 @@
 //! [`ProblemError`] naming the origin, the key and the reason (the CLI turns it into exit 2).
 //! Also: every shipped problem loads, and problems round-trip through TOML.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use proptest::prelude::*;
-use safereach::core::model::{Controller, DangerRule, Environment, Problem, ProblemError, Robot};
+use safereach::core::model::{DangerRule, Problem, ProblemError, Robot};
+
+use crate::common::paths::{problem_file, root, seed_file};
+use crate::common::spec::{Spec, any_rule};
 
 /// A valid problem (the seed's numbers); the cases below break it one edit at a time.
 const BASE: &str = r#"name = "base"
@@ -332,22 +335,14 @@ fn validate_names_origin_key_value_and_reason() {
     assert!(matches!(err, ProblemError::Invalid { .. }));
 }
 
-fn manifest_path(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
-
-fn seed_path() -> PathBuf {
-    manifest_path("problems/seed.toml")
-}
-
 fn with_sets(sets: &[&str]) -> Result<Problem, ProblemError> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    Problem::load_with_overrides(&seed_path(), &sets)
+    Problem::load_with_overrides(&seed_file(), &sets)
 }
 
 #[test]
 fn overrides_apply_with_toml_types() {
-    let seed = Problem::load(&seed_path()).unwrap();
+    let seed = Problem::load(&seed_file()).unwrap();
     let p = with_sets(&[
         "environment.obstacle_speed=0.25",
         "controller.danger_rule=kinematic",
@@ -535,7 +530,7 @@ fn errors_in_the_file_name_the_file_even_with_overrides() {
 
 #[test]
 fn a_missing_file_is_a_read_error() {
-    let err = Problem::load(&manifest_path("problems/no-such-problem.toml")).unwrap_err();
+    let err = Problem::load(&problem_file("no-such-problem.toml")).unwrap_err();
     assert!(matches!(err, ProblemError::Read { .. }), "{err:?}");
     assert!(
         err.to_string()
@@ -546,7 +541,7 @@ fn a_missing_file_is_a_read_error() {
 
 /// Problem files shipped in problems/ (grid files, `*-grid.toml`, are sweeps, not problems).
 fn shipped_problems() -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(manifest_path("problems"))
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("problems"))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
@@ -568,7 +563,7 @@ fn every_shipped_problem_loads_and_validates() {
         "area-rule",
     ] {
         assert!(
-            paths.contains(&manifest_path(&format!("problems/{name}.toml"))),
+            paths.contains(&problem_file(&format!("{name}.toml"))),
             "{name}.toml missing"
         );
     }
@@ -597,14 +592,6 @@ fn shipped_problems_round_trip() {
     }
 }
 
-fn any_rule() -> impl Strategy<Value = DangerRule> {
-    prop_oneof![
-        Just(DangerRule::Paper),
-        Just(DangerRule::Kinematic),
-        Just(DangerRule::Area)
-    ]
-}
-
 /// Finite floats of every magnitude, including negative zero and subnormals.
 fn any_float() -> impl Strategy<Value = f64> {
     prop::num::f64::NORMAL | prop::num::f64::SUBNORMAL | prop::num::f64::ZERO
@@ -617,25 +604,13 @@ prop_compose! {
         controller in (any_float(), any_float(), any_rule(), any_float(), any::<bool>()),
         environment in (any_float(), any_float()),
     ) -> Problem {
-        Problem {
-            name,
-            robot: Robot {
-                max_speed: robot.0,
-                acceleration: robot.1,
-                braking: robot.2,
-                control_period: robot.3,
-                latency: robot.4,
-                clearance: robot.5,
-            },
-            controller: Controller {
-                assumed_obstacle_speed: controller.0,
-                reaction_radius: controller.1,
-                danger_rule: controller.2,
-                buffer: controller.3,
-                wrong_assumption_brake: controller.4,
-            },
-            environment: Environment { obstacle_speed: environment.0, initial_gap: environment.1 },
-        }
+        let (v_max, a, b, dt, latency, clearance) = robot;
+        let (v_a, rho, rule, buffer, wab) = controller;
+        let (w, g0) = environment;
+        let spec = Spec {
+            name: "", v_max, a, b, dt, latency, clearance, v_a, rho, rule, buffer, wab, w, g0,
+        };
+        Problem { name, ..spec.build() }
     }
 }
 

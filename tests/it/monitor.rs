@@ -5,7 +5,6 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::path::Path;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,6 +19,9 @@ use safereach::monitor::{
     Check, Detail, Event, Field, Monitor, MonitorError, Sample, Status, Verdict,
 };
 use safereach::proof::certificate::Certificate;
+
+use crate::common::monitoring::text_events;
+use crate::common::paths::load_problem;
 
 // ------------------------------------------------------------------------------------------
 // Counting allocations of the current thread (tests run in parallel threads)
@@ -63,14 +65,6 @@ fn allocations() -> u64 {
 // ------------------------------------------------------------------------------------------
 // Problems, certificates, simulated traces
 // ------------------------------------------------------------------------------------------
-
-fn problem(file: &str, sets: &[&str]) -> Problem {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(file);
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    Problem::load_with_overrides(&path, &sets).expect("problem loads")
-}
 
 fn certificate(p: &Problem) -> Certificate {
     let a = analyse(p).expect("analyses");
@@ -133,24 +127,6 @@ fn events(monitor: &mut Monitor, samples: &[Sample]) -> Vec<Event> {
     all
 }
 
-/// Every event of feeding the text of a trace through the reader.
-fn text_events(monitor: &mut Monitor, text: &str, format: Option<Format>) -> Vec<Event> {
-    let mut decoder = Decoder::new(format, None, 1 << 16);
-    let mut all = Vec::new();
-    for line in text.lines() {
-        match decoder.decode(line.as_bytes()) {
-            Decoded::Blank | Decoded::Header => {}
-            Decoded::Sample { sample, .. } => {
-                all.extend_from_slice(monitor.observe(&sample).events)
-            }
-            Decoded::Malformed { t, detail, .. } => {
-                all.extend_from_slice(monitor.malformed(t, detail).events)
-            }
-        }
-    }
-    all
-}
-
 // ------------------------------------------------------------------------------------------
 // Simulator and monitor close the loop
 // ------------------------------------------------------------------------------------------
@@ -159,20 +135,20 @@ fn text_events(monitor: &mut Monitor, text: &str, format: Option<Format>) -> Vec
 /// danger rule, a static obstacle, W at the certified bound W = V_a).
 fn within_premises() -> Vec<Problem> {
     vec![
-        problem("seed.toml", &[]),
-        problem("seed.toml", &["robot.latency=0"]),
-        problem("seed.toml", &["robot.latency=2"]),
-        problem("seed.toml", &["environment.obstacle_speed=0.2"]),
-        problem(
+        load_problem("seed.toml", &[]),
+        load_problem("seed.toml", &["robot.latency=0"]),
+        load_problem("seed.toml", &["robot.latency=2"]),
+        load_problem("seed.toml", &["environment.obstacle_speed=0.2"]),
+        load_problem(
             "seed.toml",
             &["environment.obstacle_speed=0.2", "robot.latency=2"],
         ),
-        problem("zero-latency.toml", &[]),
-        problem("kinematic-rule.toml", &[]),
-        problem("kinematic-rule.toml", &["environment.obstacle_speed=0.2"]),
-        problem("area-rule.toml", &[]),
-        problem("area-rule.toml", &["environment.obstacle_speed=0.2"]),
-        problem("static-obstacle.toml", &[]),
+        load_problem("zero-latency.toml", &[]),
+        load_problem("kinematic-rule.toml", &[]),
+        load_problem("kinematic-rule.toml", &["environment.obstacle_speed=0.2"]),
+        load_problem("area-rule.toml", &[]),
+        load_problem("area-rule.toml", &["environment.obstacle_speed=0.2"]),
+        load_problem("static-obstacle.toml", &[]),
     ]
 }
 
@@ -246,8 +222,14 @@ fn first_fast_sample(rows: &[TraceRow], w: f64) -> Option<usize> {
 #[test]
 fn an_obstacle_faster_than_certified_is_flagged_at_the_first_sample_that_shows_it() {
     // The seed's example: certified for W = 0.2, at run time the obstacle moves up to 0.25.
-    let cert = certified(&problem("seed.toml", &["environment.obstacle_speed=0.2"]));
-    let run_time = floats(&problem("seed.toml", &["environment.obstacle_speed=0.25"]));
+    let cert = certified(&load_problem(
+        "seed.toml",
+        &["environment.obstacle_speed=0.2"],
+    ));
+    let run_time = floats(&load_problem(
+        "seed.toml",
+        &["environment.obstacle_speed=0.25"],
+    ));
     let fresh = Monitor::new(&cert).unwrap();
     let mut flagged = 0;
     for i in 0..300 {
@@ -303,7 +285,7 @@ fn an_obstacle_faster_than_certified_is_flagged_at_the_first_sample_that_shows_i
 
 #[test]
 fn certificates_that_cannot_be_monitored_are_refused() {
-    let p = problem("seed.toml", &[]);
+    let p = load_problem("seed.toml", &[]);
     let cert = certified(&p);
     // Tampered: a premise's bound raised after the fact.
     let mut forged = cert.clone();
@@ -327,7 +309,7 @@ fn certificates_that_cannot_be_monitored_are_refused() {
         Err(MonitorError::Invalid(_))
     ));
     // Valid, but refuted: premises holding would guarantee nothing.
-    let refuted = certificate(&problem("fast-obstacle.toml", &[]));
+    let refuted = certificate(&load_problem("fast-obstacle.toml", &[]));
     assert_eq!(refuted.verdict, Proved::Refuted);
     let e = Monitor::new(&refuted).unwrap_err();
     assert!(
@@ -353,7 +335,7 @@ fn certificates_that_cannot_be_monitored_are_refused() {
 // ------------------------------------------------------------------------------------------
 
 fn seed_monitor() -> Monitor {
-    Monitor::new(&certified(&problem("seed.toml", &[]))).unwrap()
+    Monitor::new(&certified(&load_problem("seed.toml", &[]))).unwrap()
 }
 
 /// A sample of obstacle `id` at `t`, the robot driving at 0.2 m/s from 0 at t = 0.
@@ -755,7 +737,7 @@ fn robot_state_must_agree_within_an_instant() {
 
 #[test]
 fn obstacle_ids_beyond_a_fixed_table() {
-    let cert = certified(&problem("seed.toml", &[]));
+    let cert = certified(&load_problem("seed.toml", &[]));
     let mut m = Monitor::with_max_obstacles(&cert, 2).unwrap();
     assert!(checks(&mut m, &at(0.0, 1, 10.0)).is_empty());
     let o = m.observe(&at(0.0, 2, 10.0));
@@ -867,7 +849,7 @@ fn summary_names_every_premise_and_why_some_were_not_checked() {
 
 #[test]
 fn observing_does_not_allocate() {
-    let cert = certified(&problem("seed.toml", &[]));
+    let cert = certified(&load_problem("seed.toml", &[]));
     let mut m = Monitor::with_max_obstacles(&cert, 4).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let before = allocations();
@@ -891,9 +873,9 @@ fn observing_does_not_allocate() {
 
 #[test]
 fn reading_csv_lines_does_not_allocate_per_line() {
-    let cert = certified(&problem("seed.toml", &[]));
+    let cert = certified(&load_problem("seed.toml", &[]));
     let mut m = Monitor::new(&cert).unwrap();
-    let params = floats(&problem("seed.toml", &[]));
+    let params = floats(&load_problem("seed.toml", &[]));
     let text = trace_csv(&random_rows(&params, 1, 0), "obstacle-A");
     let lines: Vec<&str> = text.lines().collect();
     let mut decoder = Decoder::new(Some(Format::Csv), None, 16);
@@ -1124,7 +1106,7 @@ fn garbage_never_panics_and_is_always_reported() {
     // after a valid CSV header or as JSON Lines; every line is a sample, blank or malformed,
     // and whatever decodes goes through the monitor.
     const ALPHABET: &[u8] = b"0123456789.,-+eE\"{}[]:\\ntrufalsNI \ttobstacle_idxvrm\xff\x00";
-    let cert = certified(&problem("seed.toml", &[]));
+    let cert = certified(&load_problem("seed.toml", &[]));
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     for format in [Format::Csv, Format::Jsonl] {
         let mut m = Monitor::new(&cert).unwrap();

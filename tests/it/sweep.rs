@@ -3,14 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
 use safereach::analysis::sweep::{self, Grid, Shard};
 use safereach::analysis::{Verdict, analyse};
 use safereach::core::num::f64_at_most;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use crate::common::cli::safereach;
+use crate::common::paths::root;
+use crate::common::tmp;
 
 fn seed_grid() -> Grid {
     Grid::load(&root().join("problems/seed-grid.toml")).expect("the seed grid loads")
@@ -105,7 +104,7 @@ fn simulation_never_contradicts_a_certified_cell() {
 
 #[test]
 fn bad_grids_name_the_file_and_the_reason() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     let write = |name: &str, text: &str| -> PathBuf {
         let p = dir.path().join(name);
         std::fs::write(&p, text).unwrap();
@@ -151,7 +150,8 @@ fn bad_grids_name_the_file_and_the_reason() {
     }
 }
 
-fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+/// The files in `dir`, by name, with their bytes.
+fn contents(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -170,16 +170,14 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
 /// code says (regenerate with `cargo run --release -- report` after changing either).
 #[test]
 fn committed_reports_are_what_report_regenerates() {
-    let dir = tempfile::tempdir().unwrap();
-    Command::cargo_bin("safereach")
-        .unwrap()
-        .current_dir(root())
+    let dir = tmp();
+    safereach(&root())
         .args(["report", "--out"])
         .arg(dir.path())
         .assert()
         .success();
-    let fresh = files(dir.path());
-    let committed = files(&root().join("reports"));
+    let fresh = contents(dir.path());
+    let committed = contents(&root().join("reports"));
     let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
     assert_eq!(
         names(&fresh),
@@ -196,11 +194,9 @@ fn committed_reports_are_what_report_regenerates() {
 
 #[test]
 fn sweep_cli_writes_shards_that_report_merges() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     for i in 0..2 {
-        Command::cargo_bin("safereach")
-            .unwrap()
-            .current_dir(root())
+        safereach(&root())
             .args([
                 "sweep",
                 "problems/seed-grid.toml",
@@ -215,9 +211,7 @@ fn sweep_cli_writes_shards_that_report_merges() {
             .success();
     }
     let out = dir.path().join("report");
-    Command::cargo_bin("safereach")
-        .unwrap()
-        .current_dir(root())
+    safereach(&root())
         .args(["report", "problems/seed-grid.toml", "--from"])
         .arg(dir.path().join("shards"))
         .arg("--out")
@@ -229,9 +223,7 @@ fn sweep_cli_writes_shards_that_report_merges() {
     assert!(md.contains("(a) Too small a reaction radius collides even when the assumption holds"));
     // Merging half the shards fails with a message naming what is missing.
     std::fs::remove_file(dir.path().join("shards/seed-grid.shard-1-of-2.jsonl")).unwrap();
-    Command::cargo_bin("safereach")
-        .unwrap()
-        .current_dir(root())
+    safereach(&root())
         .args(["report", "problems/seed-grid.toml", "--from"])
         .arg(dir.path().join("shards"))
         .arg("--out")

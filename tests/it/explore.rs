@@ -16,11 +16,9 @@
 //!   the state budget; the CLI.
 
 use std::collections::{HashMap, VecDeque};
-use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
 use safereach::analysis::{Analysis, Verdict, analyse};
-use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::model::{DangerRule, Params, Problem};
 use safereach::core::num::{Exact, exact_decimal, exact_float};
 use safereach::core::semantics::{Mode, World};
 use safereach::core::simulate;
@@ -29,74 +27,14 @@ use safereach::crosscheck::explore::{
 };
 use serde_json::Value;
 
+use crate::common::cli::{bad_input_exits_2, safereach, stdout};
+use crate::common::paths::{problem_file, seed_file};
+use crate::common::spec::Spec;
+use crate::common::tmp;
+
 // ---------------------------------------------------------------------------------------------
 // Problems
 // ---------------------------------------------------------------------------------------------
-
-#[derive(Clone, Copy, Debug)]
-struct Spec {
-    v_max: f64,
-    a: f64,
-    b: f64,
-    dt: f64,
-    latency: u32,
-    clearance: f64,
-    v_a: f64,
-    rho: f64,
-    rule: DangerRule,
-    buffer: f64,
-    wab: bool,
-    w: f64,
-    g0: f64,
-}
-
-impl Spec {
-    /// A small, coarse problem: a slow robot, 0.2 s periods, a short initial gap.
-    fn small() -> Spec {
-        Spec {
-            v_max: 0.4,
-            a: 0.4,
-            b: 0.5,
-            dt: 0.2,
-            latency: 1,
-            clearance: 0.0,
-            v_a: 0.2,
-            rho: 1.0,
-            rule: DangerRule::Paper,
-            buffer: 0.05,
-            wab: true,
-            w: 0.1,
-            g0: 2.0,
-        }
-    }
-
-    fn problem(&self) -> Problem {
-        let p = Problem {
-            name: "explore-test".into(),
-            robot: Robot {
-                max_speed: self.v_max,
-                acceleration: self.a,
-                braking: self.b,
-                control_period: self.dt,
-                latency: self.latency,
-                clearance: self.clearance,
-            },
-            controller: Controller {
-                assumed_obstacle_speed: self.v_a,
-                reaction_radius: self.rho,
-                danger_rule: self.rule,
-                buffer: self.buffer,
-                wrong_assumption_brake: self.wab,
-            },
-            environment: Environment {
-                obstacle_speed: self.w,
-                initial_gap: self.g0,
-            },
-        };
-        p.validate("explore test").expect("test problems are valid");
-        p
-    }
-}
 
 const RULES: [DangerRule; 3] = [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area];
 
@@ -805,26 +743,14 @@ fn speed_sets_parse_counts_lists_and_fractions() {
 // The command
 // ---------------------------------------------------------------------------------------------
 
-fn problem_file(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
-
-fn safereach(dir: &Path) -> Command {
-    let mut cmd = Command::cargo_bin("safereach").expect("the binary is built");
-    cmd.current_dir(dir);
-    cmd
-}
-
 fn json(out: &std::process::Output) -> Value {
-    let text = String::from_utf8(out.stdout.clone()).unwrap();
+    let text = stdout(out);
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("not JSON ({e}):\n{text}"))
 }
 
 #[test]
 fn cli_safe_problem_exits_0_with_the_documented_json() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     let out = safereach(dir.path())
         .arg("explore")
         .arg(problem_file("seed.toml"))
@@ -847,7 +773,7 @@ fn cli_safe_problem_exits_0_with_the_documented_json() {
 
 #[test]
 fn cli_collision_exits_1_and_writes_the_counterexample_trace() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     let out = safereach(dir.path())
         .arg("explore")
         .arg(problem_file("fast-obstacle.toml"))
@@ -886,7 +812,7 @@ fn cli_collision_exits_1_and_writes_the_counterexample_trace() {
 
 #[test]
 fn cli_budget_exits_3_with_a_clear_message() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     let out = safereach(dir.path())
         .arg("explore")
         .arg(problem_file("seed.toml"))
@@ -895,7 +821,7 @@ fn cli_budget_exits_3_with_a_clear_message() {
         .code(3)
         .get_output()
         .clone();
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = stdout(&out);
     assert!(
         text.contains("inconclusive: state budget reached (100 states)"),
         "{text}"
@@ -904,25 +830,15 @@ fn cli_budget_exits_3_with_a_clear_message() {
 
 #[test]
 fn cli_bad_input_exits_2() {
-    let dir = tempfile::tempdir().unwrap();
-    for (args, needle) in [
+    let dir = tmp();
+    let cases = [
         (vec!["--speeds", "0.5"], "outside [0, W]"),
         (vec!["--speeds", "1"], "at least 2"),
         (vec!["--speeds", "abc"], "not a number"),
         (vec!["--max-states", "0"], "at least 1"),
         (vec!["--set", "robot.braking=-1"], "robot.braking"),
-    ] {
-        let out = safereach(dir.path())
-            .arg("explore")
-            .arg(problem_file("seed.toml"))
-            .args(&args)
-            .assert()
-            .code(2)
-            .get_output()
-            .clone();
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(err.contains(needle), "{args:?}: {err}");
-    }
+    ];
+    bad_input_exits_2(dir.path(), "explore", &seed_file(), &cases);
     safereach(dir.path())
         .args(["explore", "no-such-problem.toml"])
         .assert()
@@ -931,7 +847,7 @@ fn cli_bad_input_exits_2() {
 
 #[test]
 fn cli_set_changes_the_problem_explored() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tmp();
     safereach(dir.path())
         .arg("explore")
         .arg(problem_file("seed.toml"))

@@ -9,159 +9,14 @@
 //!   latency never make the worst case better.
 
 use proptest::prelude::*;
-use proptest::test_runner::{Config as ProptestConfig, RngSeed};
 use safereach::analysis::monte_carlo;
 use safereach::analysis::{Analysis, PieceResult, Verdict, analyse, replay};
-use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::model::{DangerRule, Params, Problem};
 use safereach::core::num::{Exact, exact_decimal, exact_float};
 use safereach::proof::program::ProofKind;
 
-// ---------------------------------------------------------------------------------------------
-// Problems built in code
-// ---------------------------------------------------------------------------------------------
-
-/// The numbers of a problem, in the order a problem file lists them.
-#[derive(Clone, Copy, Debug)]
-struct Spec {
-    v_max: f64,
-    a: f64,
-    b: f64,
-    dt: f64,
-    latency: u32,
-    clearance: f64,
-    v_a: f64,
-    rho: f64,
-    rule: DangerRule,
-    buffer: f64,
-    wab: bool,
-    w: f64,
-    g0: f64,
-}
-
-impl Spec {
-    /// The seed paper's scenario (V_a = 0.2, W = 0.15) with a robot of our choosing, as a
-    /// starting point for variants (problems/seed.toml may choose another robot).
-    fn seed() -> Spec {
-        Spec {
-            v_max: 0.8,
-            a: 0.4,
-            b: 0.5,
-            dt: 0.1,
-            latency: 1,
-            clearance: 0.0,
-            v_a: 0.2,
-            rho: 1.4,
-            rule: DangerRule::Paper,
-            buffer: 0.1,
-            wab: true,
-            w: 0.15,
-            g0: 10.0,
-        }
-    }
-
-    fn problem(&self) -> Problem {
-        let p = Problem {
-            name: "test".into(),
-            robot: Robot {
-                max_speed: self.v_max,
-                acceleration: self.a,
-                braking: self.b,
-                control_period: self.dt,
-                latency: self.latency,
-                clearance: self.clearance,
-            },
-            controller: Controller {
-                assumed_obstacle_speed: self.v_a,
-                reaction_radius: self.rho,
-                danger_rule: self.rule,
-                buffer: self.buffer,
-                wrong_assumption_brake: self.wab,
-            },
-            environment: Environment {
-                obstacle_speed: self.w,
-                initial_gap: self.g0,
-            },
-        };
-        p.validate("test problem").expect("test problems are valid");
-        p
-    }
-}
-
-/// A number with two decimals in [lo, hi] hundredths (the exact decimal is i/100).
-fn cents(lo: u32, hi: u32) -> impl Strategy<Value = f64> {
-    (lo..=hi).prop_map(|i| f64::from(i) / 100.0)
-}
-
-fn any_rule() -> impl Strategy<Value = DangerRule> {
-    prop_oneof![
-        Just(DangerRule::Paper),
-        Just(DangerRule::Kinematic),
-        Just(DangerRule::Area),
-    ]
-}
-
-/// Problems over every danger rule, latencies 0..=3, the wrong-assumption guard on and off,
-/// W below and above V_a, short initial gaps (the robot still accelerates when it brakes,
-/// and stops mid-step) and long ones.
-fn any_spec() -> impl Strategy<Value = Spec> {
-    let robot = (
-        cents(20, 200), // v_max
-        cents(20, 200), // a
-        cents(20, 300), // b
-        cents(5, 20),   // dt
-        0u32..=3,       // latency
-        cents(0, 20),   // clearance
-    );
-    let controller = (
-        cents(0, 50),   // V_a
-        cents(10, 300), // rho
-        any_rule(),
-        cents(0, 30), // buffer
-        any::<bool>(),
-    );
-    let environment = (
-        // W as a fraction of V_a (≤ V_a) or above it.
-        prop_oneof![(0u32..=100).prop_map(Err), cents(0, 100).prop_map(Ok)],
-        prop_oneof![cents(30, 300), cents(500, 3000)],
-    );
-    (robot, controller, environment).prop_map(
-        |((v_max, a, b, dt, latency, clearance), (v_a, rho, rule, buffer, wab), (w, g0))| {
-            let w = match w {
-                Ok(w) => w,
-                // Two decimals at most V_a.
-                Err(pct) => (v_a * 100.0 * f64::from(pct) / 100.0).floor() / 100.0,
-            };
-            Spec {
-                v_max,
-                a,
-                b,
-                dt,
-                latency,
-                clearance,
-                v_a,
-                rho,
-                rule,
-                buffer,
-                wab,
-                w,
-                g0,
-            }
-        },
-    )
-}
-
-/// `cases` cases from a fixed seed (reproducible in CI); `PROPTEST_RNG_SEED=n` explores others.
-fn config(cases: u32) -> ProptestConfig {
-    let mut config = ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    };
-    if config.rng_seed == RngSeed::Random {
-        config.rng_seed = RngSeed::Fixed(0x5afe_4ead);
-    }
-    config
-}
+use crate::common::paths::seed_file;
+use crate::common::spec::{Spec, any_rule, any_spec, cents, config};
 
 fn f(x: &Exact) -> f64 {
     x.to_f64().value()
@@ -241,6 +96,7 @@ fn closed_form_case(at: ClearanceAt) -> impl Strategy<Value = (Spec, Exact)> {
                 let cm = |c: u64| c as f64 / 100.0;
                 let rho = cm(rho_c);
                 let spec = Spec {
+                    name: "test",
                     v_max: v,
                     a,
                     b,
@@ -644,6 +500,7 @@ proptest! {
 #[test]
 fn exact_ties_with_a_guard_are_decided() {
     let tie = Spec {
+        name: "test",
         v_max: 0.66,
         a: 0.22,
         b: 0.2,
@@ -669,6 +526,7 @@ fn exact_ties_with_a_guard_are_decided() {
         },
         // A static obstacle, paper rule, latency 3, first seen exactly at ρ.
         Spec {
+            name: "test",
             v_max: 0.52,
             a: 1.07,
             b: 0.2,
@@ -723,8 +581,7 @@ fn exact_ties_with_a_guard_are_decided() {
 // ---------------------------------------------------------------------------------------------
 
 fn seed_problem() -> Problem {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml");
-    Problem::load(std::path::Path::new(path)).expect("problems/seed.toml loads")
+    Problem::load(&seed_file()).expect("problems/seed.toml loads")
 }
 
 #[test]
@@ -948,6 +805,7 @@ proptest! {
 #[test]
 fn a_faster_obstacle_is_never_safer_regression() {
     let slow = Spec {
+        name: "test",
         v_max: 0.87,
         a: 0.94,
         b: 2.77,
@@ -990,11 +848,7 @@ fn fast_replay_equals_big_rational_replay() {
     for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
         for latency in 0..3 {
             for (w, rho) in [(0.15, 1.4), (0.3, 0.9), (0.25, 1.6), (0.6, 0.5)] {
-                let mut p = Problem::load(std::path::Path::new(concat!(
-                    env!("CARGO_MANIFEST_DIR"),
-                    "/problems/seed.toml"
-                )))
-                .expect("seed loads");
+                let mut p = Problem::load(&seed_file()).expect("seed loads");
                 p.controller.danger_rule = rule;
                 p.robot.latency = latency;
                 p.environment.obstacle_speed = w;

@@ -7,46 +7,15 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 use safereach::analysis::Verdict;
 use safereach::core::model::Problem;
 use safereach::proof::certificate::Certificate;
 use serde_json::Value;
-use tempfile::TempDir;
 
-fn problem(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
-
-fn seed() -> PathBuf {
-    problem("seed.toml")
-}
-
-/// The binary, run in `dir`.
-fn safereach(dir: &Path) -> Command {
-    let mut cmd = Command::cargo_bin("safereach").expect("the safereach binary is built");
-    cmd.current_dir(dir);
-    cmd
-}
-
-fn tmp() -> TempDir {
-    tempfile::tempdir().expect("a temporary directory")
-}
-
-/// The names of the files in `dir`.
-fn files(dir: &Path) -> BTreeSet<String> {
-    std::fs::read_dir(dir)
-        .expect("readable")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect()
-}
-
-fn stdout(out: &std::process::Output) -> String {
-    String::from_utf8(out.stdout.clone()).expect("UTF-8 output")
-}
+use crate::common::cli::{files, safereach, stdout};
+use crate::common::paths::{problem_file, seed_file};
+use crate::common::tmp;
 
 /// Runs `certify` with `args` and parses its `--json` output; checks the exit code.
 fn certify_json(dir: &Path, args: &[&str], code: i32) -> (Certificate, Value) {
@@ -69,7 +38,7 @@ fn certify_json(dir: &Path, args: &[&str], code: i32) -> (Certificate, Value) {
 fn write_seed_certificate(dir: &Path) -> PathBuf {
     safereach(dir)
         .args(["certify"])
-        .arg(seed())
+        .arg(seed_file())
         .args(["--out", "cert.json"])
         .assert()
         .code(0);
@@ -85,7 +54,7 @@ fn certify_seed_is_certified() {
     let dir = tmp();
     safereach(dir.path())
         .arg("certify")
-        .arg(seed())
+        .arg(seed_file())
         .assert()
         .code(0)
         .stdout(predicate::str::contains("seed: certified"))
@@ -99,7 +68,7 @@ fn certify_seed_is_certified() {
 #[test]
 fn certify_json_is_a_certificate_with_the_documented_fields() {
     let dir = tmp();
-    let (cert, value) = certify_json(dir.path(), &[seed().to_str().unwrap()], 0);
+    let (cert, value) = certify_json(dir.path(), &[seed_file().to_str().unwrap()], 0);
     assert_eq!(cert.verdict, Verdict::Certified);
     assert_eq!(value["verdict"], "certified");
 
@@ -113,7 +82,7 @@ fn certify_json_is_a_certificate_with_the_documented_fields() {
     assert_eq!(value["clearance"], 0.0);
 
     // The problem it answers is the file's.
-    let file = Problem::load(&seed()).expect("seed loads");
+    let file = Problem::load(&seed_file()).expect("seed loads");
     assert_eq!(cert.problem, file);
 
     // premises: [{name, bound, unit}]
@@ -191,7 +160,7 @@ fn out_writes_a_file_that_check_accepts_and_leaves_no_temporary_files() {
     let dir = tmp();
     let out = safereach(dir.path())
         .arg("certify")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--json", "--out", "cert.json"])
         .assert()
         .code(0)
@@ -216,7 +185,7 @@ fn out_writes_a_file_that_check_accepts_and_leaves_no_temporary_files() {
     // Overwriting an existing file is atomic too.
     safereach(dir.path())
         .arg("certify")
-        .arg(problem("fast-obstacle.toml"))
+        .arg(problem_file("fast-obstacle.toml"))
         .args(["--out", "cert.json"])
         .assert()
         .code(1);
@@ -233,7 +202,7 @@ fn out_into_a_missing_directory_is_an_error_naming_the_path() {
     let dir = tmp();
     safereach(dir.path())
         .arg("certify")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--out", "no/such/dir/cert.json"])
         .assert()
         .code(2)
@@ -244,7 +213,7 @@ fn out_into_a_missing_directory_is_an_error_naming_the_path() {
 #[test]
 fn refuted_problem_exits_1_and_its_witness_collides() {
     let dir = tmp();
-    let fast = problem("fast-obstacle.toml");
+    let fast = problem_file("fast-obstacle.toml");
     safereach(dir.path())
         .arg("certify")
         .arg(&fast)
@@ -304,7 +273,7 @@ fn boundary_problem_is_inconclusive() {
         "robot.latency=0",
         "controller.reaction_radius=1.035",
     ];
-    let mut args = vec![seed().to_str().unwrap().to_string()];
+    let mut args = vec![seed_file().to_str().unwrap().to_string()];
     for s in sets {
         args.push("--set".into());
         args.push(s.into());
@@ -352,7 +321,7 @@ fn strict_boundary_piece_is_proved_empty() {
         "environment.obstacle_speed=0.05",
         "environment.initial_gap=1.82",
     ];
-    let mut args = vec![seed().to_str().unwrap().to_string()];
+    let mut args = vec![seed_file().to_str().unwrap().to_string()];
     for s in sets {
         args.push("--set".into());
         args.push(s.into());
@@ -372,7 +341,7 @@ fn strict_boundary_piece_is_proved_empty() {
 #[test]
 fn set_changes_the_problem_answered() {
     let dir = tmp();
-    let seed_path = seed();
+    let seed_path = seed_file();
     let seed_arg = seed_path.to_str().unwrap();
     let (base, _) = certify_json(dir.path(), &[seed_arg], 0);
     let out = safereach(dir.path())
@@ -432,7 +401,7 @@ fn bad_set_exits_2_naming_the_key() {
         for cmd in ["certify", "simulate"] {
             let assert = safereach(dir.path())
                 .arg(cmd)
-                .arg(seed())
+                .arg(seed_file())
                 .args(["--set", set])
                 .assert()
                 .code(2)
@@ -449,7 +418,7 @@ fn bad_set_exits_2_naming_the_key() {
 #[test]
 fn bad_problem_file_exits_2_naming_the_file_and_key() {
     let dir = tmp();
-    let text = std::fs::read_to_string(seed()).expect("seed");
+    let text = std::fs::read_to_string(seed_file()).expect("seed");
     let cases: &[(&str, String, &[&str])] = &[
         (
             "negative.toml",
@@ -587,7 +556,7 @@ fn simulate_seed_never_collides_and_is_reproducible() {
     let run = || {
         let out = safereach(dir.path())
             .arg("simulate")
-            .arg(seed())
+            .arg(seed_file())
             .args(["--runs", "1000", "--seed", "7"])
             .assert()
             .code(0)
@@ -602,7 +571,7 @@ fn simulate_seed_never_collides_and_is_reproducible() {
 
     let out = safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--runs", "1000", "--seed", "7", "--json"])
         .assert()
         .code(0)
@@ -614,13 +583,13 @@ fn simulate_seed_never_collides_and_is_reproducible() {
     assert_eq!(v["seed"], 7);
     // Random behaviours never come closer than the certified worst case.
     let seen = v["min_separation"].as_f64().expect("min_separation");
-    let (cert, _) = certify_json(dir.path(), &[seed().to_str().unwrap()], 0);
+    let (cert, _) = certify_json(dir.path(), &[seed_file().to_str().unwrap()], 0);
     assert!(seen >= cert.lower_bound.unwrap(), "{seen}");
 
     // Another seed gives other runs.
     let other = safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--runs", "1000", "--seed", "8"])
         .assert()
         .code(0)
@@ -639,7 +608,7 @@ fn simulate_replay_writes_the_worst_case_trace() {
             .unwrap();
     safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--replay", "cert.json", "--trace", "worst.csv"])
         .assert()
         .code(0)
@@ -675,7 +644,7 @@ fn simulate_replay_writes_the_worst_case_trace() {
     // The JSON form of a replay parses too.
     let out = safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--replay", "cert.json", "--json"])
         .assert()
         .code(0)
@@ -691,7 +660,7 @@ fn simulate_trace_of_random_runs_has_the_monitor_header() {
     let dir = tmp();
     safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--runs", "50", "--seed", "3", "--trace", "closest.csv"])
         .assert()
         .code(0);
@@ -709,14 +678,14 @@ fn simulate_rejects_zero_runs_and_bad_input() {
     let dir = tmp();
     safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--runs", "0"])
         .assert()
         .code(2)
         .stderr(predicate::str::contains("--runs"));
     safereach(dir.path())
         .arg("simulate")
-        .arg(seed())
+        .arg(seed_file())
         .args(["--replay", "missing.json"])
         .assert()
         .code(2)

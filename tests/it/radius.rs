@@ -4,9 +4,13 @@
 use proptest::prelude::*;
 use safereach::analysis::radius::{max_speed, safe_radius};
 use safereach::analysis::{Verdict, analyse};
-use safereach::core::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::core::model::{DangerRule, Problem};
 use safereach::proof::certificate::{Certificate, check};
 
+use crate::common::paths::seed_file;
+use crate::common::spec::{Spec, cents};
+
+/// A problem with the seed's controller but a reaction radius of 1 m (not validated).
 #[allow(clippy::too_many_arguments)]
 fn problem(
     v: f64,
@@ -18,28 +22,20 @@ fn problem(
     w: f64,
     g0: f64,
 ) -> Problem {
-    Problem {
-        name: "radius-test".into(),
-        robot: Robot {
-            max_speed: v,
-            acceleration: a,
-            braking: b,
-            control_period: dt,
-            latency,
-            clearance: 0.0,
-        },
-        controller: Controller {
-            assumed_obstacle_speed: 0.2,
-            reaction_radius: 1.0,
-            danger_rule: rule,
-            buffer: 0.1,
-            wrong_assumption_brake: true,
-        },
-        environment: Environment {
-            obstacle_speed: w,
-            initial_gap: g0,
-        },
+    Spec {
+        name: "radius-test",
+        v_max: v,
+        a,
+        b,
+        dt,
+        latency,
+        rho: 1.0,
+        rule,
+        w,
+        g0,
+        ..Spec::seed()
     }
+    .build()
 }
 
 fn certified_at(p: &Problem, rho: f64) -> bool {
@@ -65,17 +61,13 @@ fn bisect_radius(p: &Problem, mut lo: f64, mut hi: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-fn two_decimals(lo: u32, hi: u32) -> impl Strategy<Value = f64> {
-    (lo..=hi).prop_map(|x| f64::from(x) / 100.0)
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
     /// Brake on entry, no latency, cruising robot: ρ* = v²/(2b) + W·v/b + (v+W)·dt.
     #[test]
     fn brake_on_entry_radius_is_the_closed_form(
-        v in two_decimals(20, 150), b in two_decimals(20, 300), dt in two_decimals(2, 20), w in two_decimals(1, 100),
+        v in cents(20, 150), b in cents(20, 300), dt in cents(2, 20), w in cents(1, 100),
     ) {
         let p = problem(v, 1.0, b, dt, 0, DangerRule::Area, w, 60.0);
         let closed = v * v / (2.0 * b) + w * v / b + (v + w) * dt;
@@ -122,11 +114,7 @@ fn radius_agrees_with_bisection_over_certify() {
 
 #[test]
 fn radius_comes_with_a_certificate_above_and_a_refutation_below() {
-    let p = Problem::load(std::path::Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed.toml"
-    )))
-    .expect("seed loads");
+    let p = Problem::load(&seed_file()).expect("seed loads");
     let b = safe_radius(&p).expect("searches");
     let above = b.certified.expect("certified side");
     assert_eq!(above.verdict, Verdict::Certified);

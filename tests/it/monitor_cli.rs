@@ -11,26 +11,12 @@ use std::process::{Command as Process, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use assert_cmd::Command;
 use serde::Deserialize;
 use serde_json::Value;
-use tempfile::TempDir;
 
-fn problem(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
-
-fn safereach(dir: &Path) -> Command {
-    let mut cmd = Command::cargo_bin("safereach").expect("the safereach binary is built");
-    cmd.current_dir(dir);
-    cmd
-}
-
-fn tmp() -> TempDir {
-    tempfile::tempdir().expect("a temporary directory")
-}
+use crate::common::cli::safereach;
+use crate::common::paths::{problem_file, seed_file};
+use crate::common::tmp;
 
 struct Run {
     code: i32,
@@ -52,44 +38,25 @@ fn run(dir: &Path, args: &[&str], stdin: Option<&str>) -> Run {
     }
 }
 
+/// `<command> seed.toml --set environment.obstacle_speed=W <args>`.
+fn on_seed(dir: &Path, command: &str, w: &str, args: &[&str]) -> Run {
+    let seed = seed_file();
+    let set = format!("environment.obstacle_speed={w}");
+    let mut all = vec![command, seed.to_str().unwrap(), "--set", &set];
+    all.extend_from_slice(args);
+    run(dir, &all, None)
+}
+
 /// `certify seed.toml --set environment.obstacle_speed=W --out cert.json`.
 fn certify_seed(dir: &Path, w: &str) -> PathBuf {
-    let seed = problem("seed.toml");
-    let set = format!("environment.obstacle_speed={w}");
-    let r = run(
-        dir,
-        &[
-            "certify",
-            seed.to_str().unwrap(),
-            "--set",
-            &set,
-            "--out",
-            "cert.json",
-        ],
-        None,
-    );
+    let r = on_seed(dir, "certify", w, &["--out", "cert.json"]);
     assert_eq!(r.code, 0, "{}{}", r.stdout, r.stderr);
     dir.join("cert.json")
 }
 
 /// `simulate seed.toml --set environment.obstacle_speed=W --trace FILE`.
 fn simulate_seed(dir: &Path, w: &str, trace: &str) {
-    let seed = problem("seed.toml");
-    let set = format!("environment.obstacle_speed={w}");
-    let r = run(
-        dir,
-        &[
-            "simulate",
-            seed.to_str().unwrap(),
-            "--set",
-            &set,
-            "--runs",
-            "200",
-            "--trace",
-            trace,
-        ],
-        None,
-    );
+    let r = on_seed(dir, "simulate", w, &["--runs", "200", "--trace", trace]);
     assert!(r.code == 0 || r.code == 1, "{}{}", r.stdout, r.stderr);
 }
 
@@ -503,7 +470,7 @@ fn unusable_certificates_and_io_errors_exit_2() {
     );
 
     // Valid but refuted: no safety to monitor.
-    let fast = problem("fast-obstacle.toml");
+    let fast = problem_file("fast-obstacle.toml");
     let out = run(
         dir.path(),
         &["certify", fast.to_str().unwrap(), "--out", "cert.json"],

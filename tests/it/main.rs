@@ -1,0 +1,22 @@
+//! The integration tests, as one binary: one link of the crate and the test harness instead
+//! of one per file, and one place for the scaffolding they share ([`common`]: the problem
+//! builder, the command runner, paths and fixtures, temporary directories).
+//!
+//! Each module is one former test file and keeps its tests' names, so
+//! `cargo test --release --test it monitor::` runs what `--test monitor` used to. The slow
+//! oracle (`tests/brute_force.rs`) stays a binary of its own; `tests/lean` holds the tests
+//! that run without the solver (`--no-default-features`).
+
+mod common;
+
+mod analysis;
+mod bad_input;
+mod certificate;
+mod cli;
+mod explore;
+mod fixtures;
+mod monitor;
+mod monitor_cli;
+mod radius;
+mod sweep;
+mod uppaal;
