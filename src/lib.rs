@@ -47,9 +47,11 @@
 //! The items below are the facade most users need; the layers hold the rest.
 
 //! ```
+//! # #[cfg(not(feature = "solver"))] fn main() {}
+//! # #[cfg(feature = "solver")]
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! use safereach::{Certificate, Problem, Verdict, analyse, check};
 //!
-//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"))?;
 //! let problem = Problem::from_toml_str(&text, "seed.toml")?;
 //! let analysis = analyse(&problem)?;
