@@ -299,12 +299,7 @@ mod tests {
     #[test]
     fn danger_distance_is_affine_in_assumed_speed_and_buffer() {
         // Paper rule: d = v·v/b + V_a·v/b + buffer, so ∂d/∂V_a = v/b and ∂d/∂buffer = 1.
-        let problem = crate::core::model::Problem::from_toml_str(
-            &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"))
-                .expect("seed problem"),
-            "seed.toml",
-        )
-        .expect("seed problem is valid");
+        let problem = crate::core::model::Problem::shipped_seed();
         let p: Params<Exact> = problem.params();
         let sym = symbolic(&p);
         let v = p.v_max.clone();

@@ -451,12 +451,7 @@ mod tests {
     fn bounds_are_affine_in_the_parameters() {
         // min x s.t. x ≥ ρ − 1 (−x ≤ 1 − ρ), x ∈ [0, W]: with z = 1 the bound is ρ − 1,
         // whose slope in ρ is exactly 1; the box's upper end W does not enter (r = 0).
-        let problem = crate::core::model::Problem::from_toml_str(
-            &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"))
-                .expect("seed problem"),
-            "seed.toml",
-        )
-        .expect("valid");
+        let problem = crate::core::model::Problem::shipped_seed();
         let params = problem.params::<Exact>();
         let rho = ParamAffine::parameter(Parameter::ReactionRadius, &params);
         let w = ParamAffine::parameter(Parameter::ObstacleSpeed, &params);

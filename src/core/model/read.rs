@@ -313,4 +313,14 @@ impl Problem {
     pub fn to_toml_string(&self) -> String {
         toml::to_string(self).expect("a problem always serialises to TOML")
     }
+
+    /// The shipped seed problem (`problems/seed.toml`), for unit tests.
+    #[cfg(test)]
+    pub(crate) fn shipped_seed() -> Problem {
+        Problem::load(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed.toml"
+        )))
+        .expect("the shipped seed problem loads")
+    }
 }
