@@ -288,14 +288,7 @@ pub fn safe_radius(problem: &Problem) -> Result<Boundary, AnalysisError> {
                 summary(&a)
             )
         };
-        return Ok(Boundary {
-            parameter: param,
-            value: None,
-            reason: Some(why),
-            certified: None,
-            refuted: Some(a),
-            analyses: count,
-        });
+        return Ok(Boundary::none(param, why, a, count));
     }
     let start = problem.controller.reaction_radius.min(cap);
     let tiny = 1e-9;
@@ -335,14 +328,7 @@ pub fn max_speed(problem: &Problem) -> Result<Boundary, AnalysisError> {
             "not even a static obstacle (W = 0) is certified: {}",
             summary(&a)
         );
-        return Ok(Boundary {
-            parameter: param,
-            value: None,
-            reason: Some(why),
-            certified: None,
-            refuted: Some(a),
-            analyses: count,
-        });
+        return Ok(Boundary::none(param, why, a, count));
     }
     // Grow W until certification fails; a fast enough obstacle always jumps the area.
     let mut inside = (0.0, zero);
@@ -378,6 +364,19 @@ pub fn max_speed(problem: &Problem) -> Result<Boundary, AnalysisError> {
 }
 
 impl Boundary {
+    /// No boundary: even the most favourable value is not certified, for `reason`; `at` is
+    /// the analysis there.
+    fn none(parameter: Parameter, reason: String, at: Analysis, analyses: usize) -> Self {
+        Boundary {
+            parameter,
+            value: None,
+            reason: Some(reason),
+            certified: None,
+            refuted: Some(at),
+            analyses,
+        }
+    }
+
     /// A one-line summary for people.
     pub fn describe(&self, problem: &Problem) -> String {
         let (name, unit) = match self.parameter {
