@@ -1,0 +1,165 @@
+//! The exhaustive explorer: every behaviour of the *finite* model, breadth first.
+//!
+//! The seed paper verified its robot with UPPAAL: every behaviour of a finite model and a
+//! safety query. This module is that check in Rust, as a second engine that holds the
+//! analyser ([`crate::analysis`]) honest: it shares nothing with the analyser but the step
+//! function [`World::step`], run in exact rationals ([`Exact`]), so no float ever decides a
+//! guard, a collision or whether two states are the same.
+//!
+//! # The model (a model checker's vocabulary)
+//!
+//! - **Init states**: one, [`World::new`] — the robot at rest about to accelerate, the
+//!   obstacle at the problem's initial gap.
+//! - **Actions**: the obstacle's speed for the next control period, chosen from a finite
+//!   [`SpeedSet`] ⊆ [0, W] (`--speeds 5` is {0, W/4, W/2, 3W/4, W}). The actions of a state
+//!   are listed in ascending speed order, always the same: the search is deterministic, and
+//!   so are its state count and its counterexample.
+//! - **Next state**: [`World::step`] with that speed — the simulator's step function.
+//! - **Property** (`always`): no step has its `collision` flag set, i.e. the robot is never
+//!   moving with gap ≤ clearance (a robot that comes to rest inside a step is judged by its
+//!   gap at the instant of rest, < clearance; DESIGN.md §1).
+//! - **Counterexample**: the *shortest* path (fewest control periods) from the init state to
+//!   a colliding step. Breadth-first search reaches every state first along a shortest path
+//!   and every state keeps a parent pointer, so the path is read back from the pointers and
+//!   replayed through [`simulate::run`] into the simulator's trace format.
+//!
+//! Besides the verdict, the search reports the minimum separation over all explored
+//! behaviours, with the analyser's meaning: the gap at the instant the robot comes to rest,
+//! minimised over every behaviour, and −∞ if some behaviour never brakes. The search goes on
+//! past a collision (the semantics lets the obstacle pass through the robot) so that this
+//! minimum covers colliding behaviours too.
+//!
+//! # States: what is stored, and why it is exact
+//!
+//! Visited states are stored in full in a hash map keyed by a [`StateKey`]; equality is
+//! decided on the whole key, never on a hash. The key leaves out what cannot change any
+//! future guard, collision or separation — each omission below is exact (two states with the
+//! same key have the same futures, step for step), so the abstraction merges states without
+//! losing or inventing a behaviour:
+//!
+//! 1. **The robot's absolute position.** [`World::step`] uses the position only through the
+//!    distance travelled in the step, `end.position − start.position`, which in exact
+//!    rationals is the same number from every start ([`crate::core::semantics::robot_motion`]
+//!    adds the travelled distance to the start; in floats it would not be). Guards read
+//!    gaps, never positions. The robot's speed and mode and the current gap stay, exactly:
+//!    they determine every later gap.
+//! 2. **The step index k.** It matters only for "no observation before L" and "observed
+//!    speed 0 before the first step"; both are encoded in the pending observations (3).
+//! 3. **The observation history, reduced to what the robot will still act on.** At step k
+//!    the robot acts on the gap L periods ago and the speed of the period before that. The
+//!    key holds, for each of the next L steps, the *verdict* that observation will give:
+//!    - *quiet*: no observation yet, a gap outside the area (≤ 0 or > ρ), or a gap beyond
+//!      the danger distance at top speed (d_coll is nondecreasing in the speed and the robot
+//!      never exceeds v_max) with no wrong-assumption speed — no guard can fire;
+//!    - *fires*: a gap in the area seen with a speed above V_a (wrong-assumption guard on),
+//!      any gap in the area under the `area` rule, or a gap already within the danger
+//!      distance at the robot's current speed (its speed, hence d_coll, only grows until it
+//!      brakes) — the guard fires if the robot is still accelerating or driving by then;
+//!    - *near(gap)*: otherwise; whether it fires depends on the robot's speed at that step,
+//!      so the exact gap is kept.
+//!
+//!    The brake *reason* is dropped: after Brake both reasons have the same future. Plus one
+//!    bit, whether the last period's speed exceeded V_a, kept only while the current gap is
+//!    in the area (it is observed together with the current gap, L periods from now).
+//! 4. **Everything but gap and speed once the robot brakes** (Brake latches, guards are no
+//!    longer evaluated), and **everything once it rests** (Stop is final: one state).
+//!
+//! Every step checks the abstraction against the real thing: the guard the key predicts for
+//! the step must be the guard [`World::step`] evaluated, or the search stops with
+//! [`ExploreError::Inconsistent`].
+//!
+//! A state whose robot still accelerates or drives, whose gap is ≤ 0 and whose pending
+//! observations are all quiet is *terminal*: no later observation can be in the area (gaps
+//! never grow), so the robot never brakes and the minimum separation is −∞. Such a state is
+//! only reached through a colliding step. With these cuts every path is finite, so the
+//! search ends.
+//!
+//! A state budget ([`Options::max_states`]) bounds memory: when it is reached the search
+//! stops with the verdict `inconclusive` (or `collision`, if one was already found).
+//!
+//! # Where things are
+//!
+//! - `speeds`: the finite speed set (the actions) and how `--speeds` is read;
+//! - `model`: the states, their exact keys and the finite model's transitions;
+//! - `search`: the breadth-first search over the model (one search for this layer,
+//!   `crosscheck::bfs`), what it watches, and the paths it replays.
+//!
+//! [`World::step`]: crate::core::semantics::World::step
+//! [`World::new`]: crate::core::semantics::World::new
+//! [`Exact`]: crate::core::num::Exact
+//! [`simulate::run`]: crate::core::simulate::run
+
+use serde::{Deserialize, Serialize};
+
+mod model;
+mod search;
+mod speeds;
+
+pub use model::{FiniteModel, State, StateKey, Status, Transition};
+pub use search::{Exploration, Path, explore, explore_model};
+pub use speeds::{SpeedSet, show_exact};
+
+/// Default state budget: under 1 GB of memory at the measured 320–450 bytes per state.
+pub const DEFAULT_MAX_STATES: usize = 2_000_000;
+
+/// Largest `--speeds N` accepted (the number of actions per state).
+pub const MAX_SPEEDS: usize = 1000;
+
+/// Errors of the explorer that are not verdicts.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExploreError {
+    /// The speed set is empty, malformed or outside [0, W].
+    #[error("--speeds {spec}: {reason}")]
+    Speeds {
+        /// The set as given.
+        spec: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The options are unusable (a zero state budget).
+    #[error("{0}")]
+    Options(String),
+    /// The state abstraction disagreed with the step function, or a path failed to replay.
+    /// A bug, reported rather than hidden.
+    #[error("internal inconsistency: {0}")]
+    Inconsistent(String),
+}
+
+/// Search options.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// Stop with `inconclusive` once this many distinct states are stored.
+    pub max_states: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            max_states: DEFAULT_MAX_STATES,
+        }
+    }
+}
+
+/// The explorer's three-valued answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ExploreVerdict {
+    /// Every behaviour of the finite model was explored; none collides.
+    Safe,
+    /// Some behaviour collides (a counterexample path is given).
+    Collision,
+    /// The state budget ran out before either was established.
+    Inconclusive,
+}
+
+impl ExploreVerdict {
+    /// The word used in output.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ExploreVerdict::Safe => "safe",
+            ExploreVerdict::Collision => "collision",
+            ExploreVerdict::Inconclusive => "inconclusive",
+        }
+    }
+}

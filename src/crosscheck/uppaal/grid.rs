@@ -1,0 +1,221 @@
+//! The exact integer grid: one scale D (grid units per metre) chosen so that every number the
+//! network computes is an integer and every division in it is exact, and the problem's
+//! numbers on that grid — refused, never rounded, when they do not fit UPPAAL's 32-bit `int`
+//! (the module docs of `uppaal` give the construction).
+
+use std::collections::BTreeSet;
+
+use dashu_int::ops::Gcd;
+use dashu_int::{IBig, UBig};
+
+use super::{INT_MAX, MAX_PROFILE, UppaalError};
+use crate::core::model::{DangerRule, Params, Problem};
+use crate::core::num::Exact;
+use crate::core::semantics::{Mode, RobotState, robot_motion};
+use crate::crosscheck::explore::SpeedSet;
+
+/// The problem's numbers on the integer grid.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Grid {
+    /// D: grid units per metre.
+    pub scale: UBig,
+    /// Latency L in periods.
+    pub latency: usize,
+    /// Initial gap, g0·D.
+    pub g0: i64,
+    /// v_max·dt·D.
+    pub v_max: i64,
+    /// a·dt²·D (speed gained per period while accelerating).
+    pub acc: i64,
+    /// b·dt²·D (speed lost per period while braking).
+    pub brk: i64,
+    /// V_a·dt·D.
+    pub v_a: i64,
+    /// ⌊ρ·D⌋.
+    pub rho: i64,
+    /// buffer·D.
+    pub buffer: i64,
+    /// clearance·D.
+    pub clearance: i64,
+    /// Obstacle speeds × dt·D, ascending.
+    pub speeds: Vec<i64>,
+    /// Lowest value a gap variable can take.
+    pub gap_min: i64,
+    /// The danger rule.
+    pub rule: DangerRule,
+    /// Whether the wrong-assumption guard is on.
+    pub wrong_assumption_brake: bool,
+}
+
+fn lcm(a: &UBig, b: &UBig) -> UBig {
+    let g = a.gcd(b);
+    a / &g * b
+}
+
+fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
+    let n: IBig = x.numerator().clone();
+    let v = i64::try_from(&n).ok().filter(|v| v.abs() <= INT_MAX);
+    v.ok_or_else(|| {
+        UppaalError::Grid(format!(
+            "{what} is {n} grid units, beyond UPPAAL's 32-bit int (at most {INT_MAX})"
+        ))
+    })
+}
+
+/// The drive profile's speeds: every speed the robot can brake from (0, then one per
+/// control period until v_max).
+fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
+    let mut drive = vec![Exact::ZERO];
+    let mut state = RobotState {
+        position: Exact::ZERO,
+        speed: Exact::ZERO,
+        mode: Mode::Accelerate,
+    };
+    while state.speed < p.v_max {
+        if drive.len() > MAX_PROFILE {
+            return Err(UppaalError::Grid(format!(
+                "the robot needs more than {MAX_PROFILE} control periods to reach top speed"
+            )));
+        }
+        state = robot_motion(p, &state).end;
+        drive.push(state.speed.clone());
+    }
+    Ok(drive)
+}
+
+/// Every quantity the model's integer arithmetic produces (in metres): D is the least common
+/// multiple of their denominators.
+fn grid_quantities(p: &Params<Exact>, drive: &[Exact], speeds: &SpeedSet) -> Vec<Exact> {
+    let two = Exact::from(2);
+    let dt = p.dt.clone();
+    let mut need: Vec<Exact> = vec![
+        p.g0.clone(),
+        p.clearance.clone(),
+        p.buffer.clone(),
+        p.v_max.clone() * dt.clone(),
+        p.V_a.clone() * dt.clone(),
+        p.a.clone() * dt.clone() * dt.clone() / two.clone(),
+        p.b.clone() * dt.clone() * dt.clone() / two.clone(),
+    ];
+    need.extend(speeds.speeds().iter().map(|w| w.clone() * dt.clone()));
+    // The period in which the robot reaches v_max: v_max·dt − (v_max − u)²/(2a).
+    let before_top = drive[drive.len() - 2].clone();
+    let gap_to_top = p.v_max.clone() - before_top;
+    need.push(gap_to_top.clone() * gap_to_top / (two.clone() * p.a.clone()));
+    // The last, partial braking period from every speed the robot can brake from.
+    let bdt = p.b.clone() * dt.clone();
+    let mut last: BTreeSet<Exact> = BTreeSet::new();
+    for u in drive.iter().filter(|u| **u > Exact::ZERO) {
+        let periods = Exact::from((u.clone() / bdt.clone()).ceil());
+        last.insert(u.clone() - (periods - Exact::ONE) * bdt.clone());
+    }
+    for r in &last {
+        need.push(r.clone() * r.clone() / (two.clone() * p.b.clone()));
+        for w in speeds.speeds() {
+            need.push(w.clone() * r.clone() / p.b.clone());
+        }
+    }
+    need
+}
+
+impl Grid {
+    /// The exact grid of a (validated) problem with obstacle speeds `speeds`.
+    pub fn new(problem: &Problem, speeds: &SpeedSet) -> Result<Grid, UppaalError> {
+        let p: Params<Exact> = problem.params();
+        let drive = drive_profile(&p)?;
+        let need = grid_quantities(&p, &drive, speeds);
+        let scale = need.iter().fold(UBig::ONE, |d, x| lcm(&d, x.denominator()));
+        let grid = Self::scaled(&p, speeds, scale)?;
+        grid.check_products()?;
+        Ok(grid)
+    }
+
+    /// The problem's numbers with `scale` grid units per metre.
+    fn scaled(p: &Params<Exact>, speeds: &SpeedSet, scale: UBig) -> Result<Grid, UppaalError> {
+        let dt = p.dt.clone();
+        let bdt = p.b.clone() * dt.clone();
+        let d = Exact::from(scale.clone());
+        let on_grid = |x: Exact| x * d.clone();
+        let g0 = to_int(&on_grid(p.g0.clone()), "the initial gap")?;
+        let v_max = to_int(&on_grid(p.v_max.clone() * dt.clone()), "v_max·dt")?;
+        let acc = to_int(&on_grid(p.a.clone() * dt.clone() * dt.clone()), "a·dt²")?;
+        let brk = to_int(&on_grid(bdt.clone() * dt.clone()), "b·dt²")?;
+        let v_a = to_int(&on_grid(p.V_a.clone() * dt.clone()), "V_a·dt")?;
+        let rho_exact = Exact::from(on_grid(p.rho.clone()).floor());
+        let rho = to_int(&rho_exact, "the reaction radius")?;
+        let buffer = to_int(&on_grid(p.buffer.clone()), "the buffer")?;
+        let clearance = to_int(&on_grid(p.clearance.clone()), "the clearance")?;
+        let speeds_int = speeds
+            .speeds()
+            .iter()
+            .map(|w| to_int(&on_grid(w.clone() * dt.clone()), "an obstacle speed"))
+            .collect::<Result<Vec<_>, _>>()?;
+        let w_max = *speeds_int.last().expect("a speed set is nonempty");
+        let gap_min = 0.min(clearance - v_max - w_max);
+        Ok(Grid {
+            scale,
+            latency: p.L,
+            g0,
+            v_max,
+            acc,
+            brk,
+            v_a,
+            rho,
+            buffer,
+            clearance,
+            speeds: speeds_int,
+            gap_min,
+            rule: p.rule,
+            wrong_assumption_brake: p.wrong_assumption_brake,
+        })
+    }
+
+    /// The largest obstacle speed on the grid.
+    pub fn w_max(&self) -> i64 {
+        *self.speeds.last().expect("a speed set is nonempty")
+    }
+
+    /// Every product the model's functions compute must fit a 32-bit int.
+    fn check_products(&self) -> Result<(), UppaalError> {
+        let factor = if self.rule == DangerRule::Kinematic {
+            2
+        } else {
+            1
+        };
+        let span = (self.g0 + self.buffer).max(self.buffer - self.gap_min);
+        let checks: [(&str, i128); 6] = [
+            (
+                "the danger guard's left side (observed gap - BUFFER)·BRK",
+                i128::from(factor) * i128::from(span) * i128::from(self.brk),
+            ),
+            (
+                "the danger guard's right side v·v + VA·v",
+                i128::from(self.v_max) * i128::from(self.v_max)
+                    + i128::from(factor) * i128::from(self.v_a) * i128::from(self.v_max),
+            ),
+            (
+                "the rest gap's v·(2·w + v)",
+                i128::from(self.brk) * (2 * i128::from(self.w_max()) + i128::from(self.brk)),
+            ),
+            (
+                "the top-speed step's (VMAX - v)²",
+                i128::from(self.acc) * i128::from(self.acc),
+            ),
+            (
+                "a gap plus a period's travel",
+                i128::from(self.g0) + i128::from(self.v_max) + i128::from(self.w_max()),
+            ),
+            ("2·ACC, 2·BRK", 2 * i128::from(self.acc.max(self.brk))),
+        ];
+        for (what, value) in checks {
+            if value > i128::from(INT_MAX) {
+                return Err(UppaalError::Grid(format!(
+                    "with 1 unit = 1/{} m, {what} reaches {value}, beyond UPPAAL's 32-bit int \
+                     (at most {INT_MAX}); use fewer or rounder speeds, or rounder problem numbers",
+                    self.scale
+                )));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,139 @@
+//! The finite model as UPPAAL timed automata, on an exact integer grid.
+//!
+//! The seed paper modelled its robot and obstacle as UPPAAL timed automata and checked a
+//! TCTL safety query. [`export`] writes the same finite model the explorer ([`crate::crosscheck::explore`])
+//! searches — the problem plus a finite obstacle speed set — as a UPPAAL network (XML) and the
+//! passive-safety query (`.q`), for users who own UPPAAL. UPPAAL is not available here; the
+//! explorer with the same `--speeds` is the reference for what UPPAAL answers.
+//!
+//! # The integer grid (exact, no rounding)
+//!
+//! UPPAAL has bounded 32-bit integers and no rationals. The export picks one scale D (grid
+//! units per metre) and writes every quantity as an integer:
+//!
+//! - time: one model time unit is one control period dt (the obstacle's clock `x`);
+//! - distances (gap, thresholds): metres × D;
+//! - speeds: distance per period, metres/second × dt × D; accelerations: the speed change per
+//!   period, a·dt²·D and b·dt²·D.
+//!
+//! D is the least common multiple of the denominators of every quantity the model's integer
+//! arithmetic produces: the initial gap, clearance, buffer, v_max·dt, V_a·dt, a·dt²/2, b·dt²/2,
+//! each obstacle speed × dt, the distance of the step in which the robot reaches v_max, and
+//! for every speed the robot can brake from, the distance it and each obstacle speed cover in
+//! the last, partial braking period. With that D every position the model reaches is an
+//! integer and every division in the model is exact — the grid model is the rational model
+//! scaled by D, behaviour for behaviour. The reaction radius is the one number that need not
+//! be on the grid: `observed ≤ ρ` is written `observed ≤ ⌊ρ·D⌋`, which is the same condition
+//! for an integer `observed`. The collision-danger guard o ≤ d_coll(v) is multiplied out
+//! (`(o − BUFFER)·BRK ≤ v·v + VA·v` for the paper's rule), so it needs no division at all.
+//! When the scaled numbers or the guard's products do not fit UPPAAL's 32-bit `int`, the
+//! export refuses ([`UppaalError::Grid`]) rather than round.
+//!
+//! # The network
+//!
+//! - `Robot`: Idle → Accelerate → Drive → Brake → Stop, the seed's robot automaton. At each
+//!   period's start (channel `decide`) it evaluates `collisionDanger() || wrongAssumption()`
+//!   on its delayed observation and moves to Brake or stays; at the period's end (channel
+//!   `advance`) it moves by the exact distance of its mode.
+//! - `Obstacle`: Init → Idle ⇄ Move, the seed's obstacle automaton. Init stores the initial
+//!   gap; from Idle it selects its speed for the period from the set (`decide!`), and Move
+//!   lasts one time unit (`advance!` at x == 1).
+//! - Variables: the gap (not absolute positions — only the gap matters, as in the explorer,
+//!   and absolute positions would only multiply UPPAAL's states), the robot's speed, the
+//!   obstacle's speed in the current period (cleared at its end), the last L+1 gaps and
+//!   whether each of the last L+1 periods' obstacle speed exceeded V_a (all the latency
+//!   needs: the speed is only ever compared with V_a), and the gap at the instant the robot
+//!   came to rest.
+//! - Query: `A[] not ((v > 0 && gap <= CLEARANCE) || (rested && restGap < CLEARANCE))` —
+//!   never moving with gap ≤ clearance; a robot that comes to rest inside a period is judged
+//!   by its gap at that instant (< clearance), exactly as [`crate::core::semantics::World::step`].
+//!   The network stops (the obstacle blocks) once the query is violated, which keeps every
+//!   variable in its declared range.
+//!
+//! # Checking the export without UPPAAL
+//!
+//! The model is built as data — declarations, functions as small syntax trees, templates and
+//! edges — and printed from that data. [`explore_grid`] runs the *same data* through an
+//! interpreter of UPPAAL's semantics for this network (the clock only spaces `decide` and
+//! `advance` one time unit apart, so it is left out), checking on every evaluation that
+//! integers stay 32-bit, assignments stay in their declared ranges (UPPAAL aborts otherwise)
+//! and every division is exact. Tests hold its verdict, shortest collision period and
+//! minimum separation against the explorer's.
+//!
+//! # Where things are
+//!
+//! - `grid`: the exact integer grid (the scale D and the problem's numbers on it);
+//! - `syntax`: the network as data — expressions, statements, functions, declarations,
+//!   templates;
+//! - `network`: a problem's network built as that data: constants, variables, the guard and
+//!   motion functions, the `Robot` and `Obstacle` automata, the query's violation;
+//! - `printer`: the data printed as UPPAAL's XML and `.q` query;
+//! - `machine`: evaluation of the declarations, expressions and statements, with UPPAAL's
+//!   range and overflow checks;
+//! - `interpreter`: the network's transitions and the breadth-first search over them.
+
+mod grid;
+mod interpreter;
+mod machine;
+mod network;
+mod printer;
+mod syntax;
+
+pub use grid::Grid;
+pub use interpreter::{GridExploration, explore_grid};
+pub use printer::{declarations_text, query_formula, query_text, xml_text};
+pub use syntax::{
+    Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Stmt, Template, Ty,
+};
+
+use crate::core::model::Problem;
+use crate::crosscheck::explore::SpeedSet;
+
+/// Most drive-profile speeds (control periods to reach v_max, plus one) the export enumerates.
+pub const MAX_PROFILE: usize = 100_000;
+
+/// Largest value of UPPAAL's `int` (32-bit).
+pub const INT_MAX: i64 = i32::MAX as i64;
+
+/// Why a problem cannot be exported, or the exported network cannot be explored.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum UppaalError {
+    /// No exact integer grid fits UPPAAL's 32-bit integers.
+    #[error("no exact UPPAAL integer grid: {0}")]
+    Grid(String),
+    /// The network would abort in UPPAAL (a value out of its declared range, an overflow) or
+    /// divide inexactly — a bug in the export, reported rather than hidden.
+    #[error("the exported network fails when run: {0}")]
+    Run(String),
+    /// The options are unusable.
+    #[error("{0}")]
+    Options(String),
+}
+
+/// An exported model.
+#[derive(Clone, Debug)]
+pub struct UppaalModel {
+    /// The grid.
+    pub grid: Grid,
+    /// The network as data.
+    pub network: Network,
+    /// The UPPAAL XML file.
+    pub xml: String,
+    /// The query file.
+    pub query: String,
+}
+
+/// Exports a (validated) problem with obstacle speeds from `speeds`.
+pub fn export(problem: &Problem, speeds: &SpeedSet) -> Result<UppaalModel, UppaalError> {
+    let grid = Grid::new(problem, speeds)?;
+    let network = network::network(problem, &grid, speeds);
+    let xml = xml_text(&network);
+    let query = query_text(&network);
+    Ok(UppaalModel {
+        grid,
+        network,
+        xml,
+        query,
+    })
+}

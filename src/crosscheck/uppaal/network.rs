@@ -1,0 +1,617 @@
+//! The network of a problem, built as data ([`super::syntax`]): the global declarations
+//! (the grid's constants, the variables, and the functions the edges call — guards first,
+//! then the period's bookkeeping and the robot's motion), the `Robot` and `Obstacle`
+//! templates, and the violation the safety query excludes. The module docs of `uppaal`
+//! describe the network; the order of the declarations here is the order they are printed.
+
+use super::Grid;
+use super::syntax::{
+    Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Stmt, Template, Ty, add, and,
+    bin, call, div, elem, int, mul, n, not, or, sub,
+};
+use crate::core::model::{DangerRule, Problem};
+use crate::crosscheck::explore::{SpeedSet, show_exact};
+
+/// Builds the network of a grid (the problem's name goes into the header).
+pub(super) fn network(problem: &Problem, grid: &Grid, speeds: &SpeedSet) -> Network {
+    let mut declarations = constants(problem, grid, speeds);
+    declarations.extend(variables(grid));
+    declarations.extend(guard_functions(grid.rule));
+    declarations.extend(period_functions());
+    declarations.extend(motion_functions());
+    Network {
+        header: header(problem, grid, speeds),
+        declarations,
+        templates: vec![
+            robot_template(),
+            obstacle_template(grid.speeds.len() as i64),
+        ],
+        violation: violation(),
+    }
+}
+
+/// The speed set as the explorer's `--speeds` list.
+fn speed_list(speeds: &SpeedSet) -> String {
+    speeds
+        .speeds()
+        .iter()
+        .map(show_exact)
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The file's header comment: the scaling, and where the reference answer comes from.
+fn header(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> String {
+    let dt = problem.robot.control_period;
+    format!(
+        "safereach export of problem \"{name}\": the finite model (obstacle speeds {speeds} m/s)\n\
+         as UPPAAL timed automata on an exact integer grid.\n\
+         Scaling (exact for this problem, nothing is rounded):\n\
+         - time: 1 model time unit = 1 control period = {dt} s;\n\
+         - distance: 1 unit = 1/{d} m (gap, thresholds, clearance);\n\
+         - speed: units per period: 1 = 1/({d} * {dt}) m/s;\n\
+         - the reaction radius enters as floor(rho * {d}) = {rho}, the same condition for integer gaps.\n\
+         Reference answer: the explorer on the same finite model, safereach explore PROBLEM\n\
+         with the speed list {list} (UPPAAL is not needed for it).",
+        name = problem.name,
+        d = g.scale,
+        rho = g.rho,
+        list = speed_list(speeds),
+    )
+}
+
+/// The grid's constants (with the comment above them) and the channels.
+fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
+    let dt = problem.robot.control_period;
+    vec![
+        Decl::Comment(format!(
+            "Problem \"{}\" on the integer grid: 1 distance unit = 1/{} m, 1 time unit = {} s,\n\
+             speeds in distance units per period. Exact: see the file's header comment.\n\
+             Reference answer: safereach explore PROBLEM --speeds {}",
+            problem.name,
+            g.scale,
+            dt,
+            speed_list(speeds)
+        )),
+        constant("L", g.latency as i64, "observation latency (periods)"),
+        constant("G0", g.g0, "initial gap"),
+        constant("VMAX", g.v_max, "top speed v_max * dt"),
+        constant(
+            "ACC",
+            g.acc,
+            "speed gained per period while accelerating, a * dt^2",
+        ),
+        constant(
+            "BRK",
+            g.brk,
+            "speed lost per period while braking, b * dt^2",
+        ),
+        constant("VA", g.v_a, "assumed obstacle speed bound V_a * dt"),
+        constant("RHO", g.rho, "reaction radius floor(rho)"),
+        constant("BUFFER", g.buffer, "danger buffer"),
+        constant(
+            "CLEARANCE",
+            g.clearance,
+            "collision: moving with gap <= CLEARANCE",
+        ),
+        Decl::Const {
+            name: "WRONG_ASSUMPTION_BRAKE",
+            value: i64::from(g.wrong_assumption_brake),
+            boolean: true,
+            note: "brake on seeing the obstacle faster than V_a".into(),
+        },
+        constant("NW", g.speeds.len() as i64, "number of obstacle speeds"),
+        Decl::ConstArray {
+            name: "WSET",
+            values: g.speeds.clone(),
+            note: "obstacle speeds (units per period), ascending".into(),
+        },
+        constant("WMAX", g.w_max(), "fastest obstacle speed"),
+        constant(
+            "GMIN",
+            g.gap_min,
+            "lowest gap reachable before the network stops",
+        ),
+        Decl::Chans(vec!["decide", "advance"]),
+    ]
+}
+
+/// The variables: the gap, the speeds, the observation history, the rest.
+fn variables(g: &Grid) -> Vec<Decl> {
+    let l = g.latency as i64;
+    vec![
+        Decl::Var {
+            name: "gap",
+            range: Some(("GMIN", "G0", g.gap_min, g.g0)),
+            len: None,
+            init: 0,
+            note: "obstacle position - robot position (set by Obstacle.Init)".into(),
+        },
+        Decl::Var {
+            name: "v",
+            range: Some(("0", "VMAX", 0, g.v_max)),
+            len: None,
+            init: 0,
+            note: "robot speed".into(),
+        },
+        Decl::Var {
+            name: "w",
+            range: Some(("0", "WMAX", 0, g.w_max())),
+            len: None,
+            init: 0,
+            note: "obstacle speed over the current period".into(),
+        },
+        Decl::Var {
+            name: "gapAt",
+            range: Some(("GMIN", "G0", g.gap_min, g.g0)),
+            len: Some(("L + 1".into(), g.latency + 1)),
+            init: 0,
+            note: "gapAt[j]: gap at the start of the period j periods ago".into(),
+        },
+        Decl::Var {
+            name: "fastAt",
+            range: None,
+            len: Some(("L + 1".into(), g.latency + 1)),
+            init: 0,
+            note:
+                "fastAt[j]: the obstacle was faster than V_a in the period that ended j periods ago"
+                    .into(),
+        },
+        Decl::Var {
+            name: "k",
+            range: Some(("0", "L", 0, l)),
+            len: None,
+            init: 0,
+            note: "periods started, counted up to L".into(),
+        },
+        Decl::Var {
+            name: "rested",
+            range: None,
+            len: None,
+            init: 0,
+            note: "the robot came to rest after moving".into(),
+        },
+        Decl::Var {
+            name: "restGap",
+            range: Some(("GMIN", "G0", g.gap_min, g.g0)),
+            len: None,
+            init: 0,
+            note: "gap at the instant the robot came to rest".into(),
+        },
+    ]
+}
+
+/// The guard functions: what the robot observes, the danger and wrong-assumption guards,
+/// and the violation.
+fn guard_functions(rule: DangerRule) -> Vec<Decl> {
+    let observed_gap = call("observedGap");
+    vec![
+        func(
+            "The robot sees the gap L periods ago (and the obstacle speed of the period\n\
+             before that; 0 before the first period) once L periods have passed.",
+            Ty::Bool,
+            "observing",
+            &[],
+            &[],
+            vec![Stmt::Return(bin(Op::Ge, n("k"), n("L")))],
+        ),
+        func(
+            "",
+            Ty::Int,
+            "observedGap",
+            &[],
+            &[],
+            vec![Stmt::Return(elem("gapAt", n("L")))],
+        ),
+        func(
+            "The observed speed matters only as faster than V_a or not.",
+            Ty::Bool,
+            "observedFast",
+            &[],
+            &[],
+            vec![Stmt::Return(elem("fastAt", n("L")))],
+        ),
+        func(
+            "In the reaction area: 0 < observed gap <= rho.",
+            Ty::Bool,
+            "inArea",
+            &[],
+            &[],
+            vec![Stmt::Return(and(
+                and(call("observing"), bin(Op::Gt, observed_gap.clone(), int(0))),
+                bin(Op::Le, observed_gap, n("RHO")),
+            ))],
+        ),
+        collision_danger(rule),
+        func(
+            "Wrong assumption: an obstacle in the area seen faster than V_a.",
+            Ty::Bool,
+            "wrongAssumption",
+            &[],
+            &[],
+            vec![Stmt::Return(and(
+                and(n("WRONG_ASSUMPTION_BRAKE"), call("inArea")),
+                call("observedFast"),
+            ))],
+        ),
+        func(
+            "The violation the safety query excludes: moving with gap <= clearance, or come\n\
+             to rest (inside a period) with a gap below the clearance.",
+            Ty::Bool,
+            "collided",
+            &[],
+            &[],
+            vec![Stmt::Return(violation())],
+        ),
+    ]
+}
+
+/// `collisionDanger()` under the problem's danger rule, multiplied out (no division).
+fn collision_danger(rule: DangerRule) -> Decl {
+    let observed_gap = call("observedGap");
+    let danger = match rule {
+        DangerRule::Paper => and(
+            call("inArea"),
+            bin(
+                Op::Le,
+                mul(sub(observed_gap.clone(), n("BUFFER")), n("BRK")),
+                add(mul(n("v"), n("v")), mul(n("VA"), n("v"))),
+            ),
+        ),
+        DangerRule::Kinematic => and(
+            call("inArea"),
+            bin(
+                Op::Le,
+                mul(
+                    mul(int(2), sub(observed_gap.clone(), n("BUFFER"))),
+                    n("BRK"),
+                ),
+                add(mul(n("v"), n("v")), mul(mul(int(2), n("VA")), n("v"))),
+            ),
+        ),
+        DangerRule::Area => call("inArea"),
+    };
+    let danger_doc = match rule {
+        DangerRule::Paper => {
+            "Collision danger (the seed's rule): the observed gap o is in the area and\n\
+             o <= d_coll(v) = v*t_b + V_a*t_b + buffer with t_b = v/b. On the grid,\n\
+             t_b = v/BRK periods, so d_coll = (v*v + VA*v)/BRK + BUFFER; multiplied out:"
+        }
+        DangerRule::Kinematic => {
+            "Collision danger (kinematic rule): the observed gap o is in the area and\n\
+             o <= d_coll(v) = v^2/(2b) + V_a*v/b + buffer. On the grid\n\
+             d_coll = (v*v + 2*VA*v)/(2*BRK) + BUFFER; multiplied out:"
+        }
+        DangerRule::Area => {
+            "Collision danger (area rule): d_coll is infinite, the robot brakes on seeing\n\
+             the obstacle in its reaction area."
+        }
+    };
+    func(
+        danger_doc,
+        Ty::Bool,
+        "collisionDanger",
+        &[],
+        &[],
+        vec![Stmt::Return(danger)],
+    )
+}
+
+/// The period's bookkeeping: the initial gap, and the end of a period (the gap, the speed,
+/// the shifted observation history).
+fn period_functions() -> Vec<Decl> {
+    vec![
+        func(
+            "Obstacle.Init: store the initial gap.",
+            Ty::Void,
+            "initialise",
+            &[],
+            &["j"],
+            vec![
+                Stmt::Set("gap", n("G0")),
+                Stmt::For {
+                    var: "j",
+                    from: int(0),
+                    up_to: Some(n("L")),
+                    body: vec![Stmt::SetElem("gapAt", n("j"), n("G0"))],
+                },
+            ],
+        ),
+        func(
+            "End of a period: the robot moved dx and ends at speed vEnd, the obstacle moved w;\n\
+             shift the observation history (w is cleared: it is chosen anew each period).",
+            Ty::Void,
+            "endPeriod",
+            &["dx", "vEnd"],
+            &["j"],
+            vec![
+                Stmt::Set("gap", sub(sub(n("gap"), n("dx")), n("w"))),
+                Stmt::Set("v", n("vEnd")),
+                Stmt::For {
+                    var: "j",
+                    from: n("L"),
+                    up_to: None,
+                    body: vec![
+                        Stmt::SetElem("gapAt", n("j"), elem("gapAt", sub(n("j"), int(1)))),
+                        Stmt::SetElem("fastAt", n("j"), elem("fastAt", sub(n("j"), int(1)))),
+                    ],
+                },
+                Stmt::SetElem("gapAt", int(0), n("gap")),
+                Stmt::SetElem("fastAt", int(0), bin(Op::Gt, n("w"), n("VA"))),
+                Stmt::Set("w", int(0)),
+                Stmt::If(
+                    bin(Op::Lt, n("k"), n("L")),
+                    vec![Stmt::Set("k", add(n("k"), int(1)))],
+                    vec![],
+                ),
+            ],
+        ),
+    ]
+}
+
+/// The robot's motion over one period, one function per mode (each ends the period).
+fn motion_functions() -> Vec<Decl> {
+    vec![
+        func(
+            "Accelerate for a whole period: distance v + ACC/2.",
+            Ty::Void,
+            "accelerate",
+            &[],
+            &[],
+            vec![Stmt::Call(
+                "endPeriod",
+                vec![add(n("v"), div(n("ACC"), int(2))), add(n("v"), n("ACC"))],
+            )],
+        ),
+        func(
+            "Reach VMAX inside the period, then cruise: distance VMAX - (VMAX - v)^2/(2*ACC).",
+            Ty::Void,
+            "reachTopSpeed",
+            &[],
+            &[],
+            vec![Stmt::Call(
+                "endPeriod",
+                vec![
+                    sub(
+                        n("VMAX"),
+                        div(
+                            mul(sub(n("VMAX"), n("v")), sub(n("VMAX"), n("v"))),
+                            mul(int(2), n("ACC")),
+                        ),
+                    ),
+                    n("VMAX"),
+                ],
+            )],
+        ),
+        func(
+            "Cruise at VMAX.",
+            Ty::Void,
+            "drive",
+            &[],
+            &[],
+            vec![Stmt::Call("endPeriod", vec![n("VMAX"), n("VMAX")])],
+        ),
+        func(
+            "Brake for a whole period: distance v - BRK/2.",
+            Ty::Void,
+            "brake",
+            &[],
+            &[],
+            vec![Stmt::Call(
+                "endPeriod",
+                vec![sub(n("v"), div(n("BRK"), int(2))), sub(n("v"), n("BRK"))],
+            )],
+        ),
+        stop_function(),
+    ]
+}
+
+/// `stop()`: the robot comes to rest inside the period; the gap at that instant is kept.
+fn stop_function() -> Decl {
+    func(
+        "Come to rest after v/BRK of the period, having moved v^2/(2*BRK) while the\n\
+         obstacle moved w*v/BRK: the gap at that instant is recorded.",
+        Ty::Void,
+        "stop",
+        &[],
+        &[],
+        vec![
+            Stmt::If(
+                bin(Op::Gt, n("v"), int(0)),
+                vec![
+                    Stmt::Set("rested", Expr::Bool(true)),
+                    Stmt::Set(
+                        "restGap",
+                        sub(
+                            n("gap"),
+                            div(
+                                mul(n("v"), add(mul(int(2), n("w")), n("v"))),
+                                mul(int(2), n("BRK")),
+                            ),
+                        ),
+                    ),
+                ],
+                vec![],
+            ),
+            Stmt::Call(
+                "endPeriod",
+                vec![div(mul(n("v"), n("v")), mul(int(2), n("BRK"))), int(0)],
+            ),
+        ],
+    )
+}
+
+fn func(
+    doc: &str,
+    ret: Ty,
+    name: &'static str,
+    params: &[&'static str],
+    locals: &[&'static str],
+    body: Vec<Stmt>,
+) -> Decl {
+    Decl::Func(Function {
+        doc: doc.to_string(),
+        ret,
+        name,
+        params: params.to_vec(),
+        locals: locals.to_vec(),
+        body,
+    })
+}
+
+fn constant(name: &'static str, value: i64, note: &str) -> Decl {
+    Decl::Const {
+        name,
+        value,
+        boolean: false,
+        note: note.to_string(),
+    }
+}
+
+/// `(v > 0 && gap <= CLEARANCE) || (rested && restGap < CLEARANCE)`.
+fn violation() -> Expr {
+    or(
+        and(
+            bin(Op::Gt, n("v"), int(0)),
+            bin(Op::Le, n("gap"), n("CLEARANCE")),
+        ),
+        and(n("rested"), bin(Op::Lt, n("restGap"), n("CLEARANCE"))),
+    )
+}
+
+fn brake_guard() -> Expr {
+    or(call("collisionDanger"), call("wrongAssumption"))
+}
+
+fn edge(source: usize, target: usize) -> Edge {
+    Edge {
+        source,
+        target,
+        select: None,
+        guard: None,
+        clock_guard: None,
+        sync: None,
+        update: vec![],
+        clock_reset: None,
+    }
+}
+
+fn robot_template() -> Template {
+    const IDLE: usize = 0;
+    const ACC: usize = 1;
+    const DRIVE: usize = 2;
+    const BRAKE: usize = 3;
+    const STOP: usize = 4;
+    let loc = |name, kind, xy| Location {
+        name,
+        invariant: None,
+        kind,
+        xy,
+    };
+    let decide = Some(("decide", Dir::Receive));
+    let advance = Some(("advance", Dir::Receive));
+    let keep = |from: usize| Edge {
+        guard: Some(not(brake_guard())),
+        sync: decide,
+        ..edge(from, from)
+    };
+    let to_brake = |from: usize| Edge {
+        guard: Some(brake_guard()),
+        sync: decide,
+        ..edge(from, BRAKE)
+    };
+    let mv = |from: usize, to: usize, guard: Option<Expr>, f: &'static str| Edge {
+        guard,
+        sync: advance,
+        update: vec![Stmt::Call(f, vec![])],
+        ..edge(from, to)
+    };
+    Template {
+        name: "Robot",
+        declaration: "",
+        locations: vec![
+            loc("Idle", Kind::Committed, (-400, 0)),
+            loc("Accelerate", Kind::Normal, (-150, 0)),
+            loc("Drive", Kind::Normal, (150, 0)),
+            loc("Brake", Kind::Normal, (150, 250)),
+            loc("Stop", Kind::Normal, (-150, 250)),
+        ],
+        init: IDLE,
+        edges: vec![
+            edge(IDLE, ACC),
+            keep(ACC),
+            to_brake(ACC),
+            keep(DRIVE),
+            to_brake(DRIVE),
+            Edge {
+                sync: decide,
+                ..edge(BRAKE, BRAKE)
+            },
+            mv(
+                ACC,
+                ACC,
+                Some(bin(Op::Gt, sub(n("VMAX"), n("v")), n("ACC"))),
+                "accelerate",
+            ),
+            mv(
+                ACC,
+                DRIVE,
+                Some(bin(Op::Le, sub(n("VMAX"), n("v")), n("ACC"))),
+                "reachTopSpeed",
+            ),
+            mv(DRIVE, DRIVE, None, "drive"),
+            mv(BRAKE, BRAKE, Some(bin(Op::Gt, n("v"), n("BRK"))), "brake"),
+            mv(BRAKE, STOP, Some(bin(Op::Le, n("v"), n("BRK"))), "stop"),
+        ],
+    }
+}
+
+fn obstacle_template(nw: i64) -> Template {
+    const INIT: usize = 0;
+    const IDLE: usize = 1;
+    const MOVE: usize = 2;
+    Template {
+        name: "Obstacle",
+        declaration: "clock x;",
+        locations: vec![
+            Location {
+                name: "Init",
+                invariant: None,
+                kind: Kind::Committed,
+                xy: (-300, 0),
+            },
+            Location {
+                name: "Idle",
+                invariant: None,
+                kind: Kind::Urgent,
+                xy: (0, 0),
+            },
+            Location {
+                name: "Move",
+                invariant: Some("x <= 1"),
+                kind: Kind::Normal,
+                xy: (300, 0),
+            },
+        ],
+        init: INIT,
+        edges: vec![
+            Edge {
+                update: vec![Stmt::Call("initialise", vec![])],
+                ..edge(INIT, IDLE)
+            },
+            Edge {
+                select: Some(("i", "NW - 1", nw - 1)),
+                guard: Some(not(call("collided"))),
+                sync: Some(("decide", Dir::Send)),
+                update: vec![Stmt::Set("w", elem("WSET", n("i")))],
+                ..edge(IDLE, MOVE)
+            },
+            Edge {
+                clock_guard: Some("x == 1"),
+                sync: Some(("advance", Dir::Send)),
+                clock_reset: Some("x = 0"),
+                ..edge(MOVE, IDLE)
+            },
+        ],
+    }
+}
