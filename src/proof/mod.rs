@@ -5,6 +5,7 @@
 //! from the problem alone and recomputing every bound in exact rationals.
 
 pub mod certificate;
+pub mod premise;
 pub mod program;
 pub mod schedule;
 pub mod verdict;
