@@ -14,8 +14,8 @@
 //! - JSON Lines: `Decoder::decode` against `serde_json` (a borrowed struct per line, and its
 //!   streaming reader over the whole text) and `simd-json`.
 //!
-//! Plain wall-clock medians (and the fastest run) of repeated timings; no timing assertions
-//! anywhere.
+//! Plain wall-clock medians (and the fastest run) of repeated timings, the candidates of each
+//! comparison interleaved; no timing assertions anywhere.
 
 use std::fmt::Write;
 use std::hint::black_box;
@@ -76,25 +76,36 @@ fn texts(rows: &[[f64; 5]], decimals: Option<usize>) -> (String, String) {
     (csv, json)
 }
 
-/// Median and fastest of `RUNS` timings of `f`, in ns per item.
-fn time(items: usize, mut f: impl FnMut() -> usize) -> (f64, f64) {
-    let mut v: Vec<Duration> = (0..RUNS)
-        .map(|_| {
+/// A candidate: its name and one pass over the input (returning a count, kept opaque).
+type Candidate<'a> = (&'a str, Box<dyn Fn() -> usize + 'a>);
+
+/// Times the candidates in turn, `RUNS` rounds (interleaved, so a change in the machine's
+/// load hits all alike), and prints each one's median and fastest pass in ns per item,
+/// relative to the first (the hand-written code).
+fn compare(items: usize, candidates: &[Candidate]) {
+    let mut times = vec![Vec::with_capacity(RUNS); candidates.len()];
+    for _ in 0..RUNS {
+        for (k, (_, f)) in candidates.iter().enumerate() {
             let start = Instant::now();
             black_box(f());
-            start.elapsed()
+            times[k].push(start.elapsed());
+        }
+    }
+    let ns = |d: Duration| d.as_nanos() as f64 / items as f64;
+    let medians: Vec<(f64, f64)> = times
+        .iter_mut()
+        .map(|v| {
+            v.sort();
+            (ns(v[RUNS / 2]), ns(v[0]))
         })
         .collect();
-    v.sort();
-    let ns = |d: Duration| d.as_nanos() as f64 / items as f64;
-    (ns(v[RUNS / 2]), ns(v[0]))
-}
-
-fn report(what: &str, base: f64, (median, best): (f64, f64)) {
-    println!(
-        "  {what:<44} {median:>7.1} ns median ({best:.1} best)  {:>5.2}x the hand-written time",
-        median / base
-    );
+    let base = medians[0].0;
+    for ((name, _), (median, best)) in candidates.iter().zip(medians) {
+        println!(
+            "  {name:<40} {median:>7.1} ns median ({best:>6.1} best)  {:>5.2}x the first",
+            median / base
+        );
+    }
 }
 
 // ------------------------------------------------------------------------------------------
@@ -261,18 +272,22 @@ fn numbers(rows: &[[f64; 5]]) {
                 s as usize
             }
         };
-        let base = time(texts.len(), sum(parse_f64)).0;
-        for (name, parse) in &PARSERS[..3] {
-            report(name, base, time(texts.len(), sum(*parse)));
-        }
-        let std = time(texts.len(), || {
-            let mut s = 0.0;
-            for t in &strs {
-                s += black_box(t).parse::<f64>().unwrap_or(0.0);
-            }
-            s as usize
-        });
-        report("str::parse::<f64> (on &str)", base, std);
+        let mut candidates: Vec<Candidate> = PARSERS[..3]
+            .iter()
+            .map(|&(name, parse)| -> Candidate { (name, Box::new(sum(parse))) })
+            .collect();
+        let strs = &strs;
+        candidates.push((
+            "str::parse::<f64> (on &str)",
+            Box::new(move || {
+                let mut s = 0.0;
+                for t in strs {
+                    s += black_box(t).parse::<f64>().unwrap_or(0.0);
+                }
+                s as usize
+            }),
+        ));
+        compare(texts.len(), &candidates);
     }
 }
 
@@ -483,26 +498,26 @@ fn main() {
         );
         assert_eq!(decode_all(&csv, Format::Csv), n);
         assert_eq!(csv_crate(&csv, lexical), n);
-        let base = time(n, || decode_all(&csv, Format::Csv)).0;
-        report(
-            "hand-written Decoder::decode",
-            base,
-            time(n, || decode_all(&csv, Format::Csv)),
-        );
-        report(
-            "csv 1.4 ByteRecord + lexical-core",
-            base,
-            time(n, || csv_crate(&csv, lexical)),
-        );
-        report(
-            "csv 1.4 ByteRecord + fast-float2",
-            base,
-            time(n, || csv_crate(&csv, fast_float)),
-        );
-        report(
-            "csv 1.4 ByteRecord, records only",
-            base,
-            time(n, || csv_records_only(&csv)),
+        compare(
+            n,
+            &[
+                (
+                    "hand-written Decoder::decode",
+                    Box::new(|| decode_all(&csv, Format::Csv)),
+                ),
+                (
+                    "csv 1.4 ByteRecord + lexical-core",
+                    Box::new(|| csv_crate(&csv, lexical)),
+                ),
+                (
+                    "csv 1.4 ByteRecord + fast-float2",
+                    Box::new(|| csv_crate(&csv, fast_float)),
+                ),
+                (
+                    "csv 1.4 ByteRecord, records only",
+                    Box::new(|| csv_records_only(&csv)),
+                ),
+            ],
         );
         println!(
             "JSON Lines ({what}, {:.0} bytes/line), ns per line",
@@ -512,26 +527,26 @@ fn main() {
         assert_eq!(serde_lines(&json), n);
         assert_eq!(serde_stream(&json), n);
         assert_eq!(simd_lines(&json), n);
-        let base = time(n, || decode_all(&json, Format::Jsonl)).0;
-        report(
-            "hand-written Decoder::decode",
-            base,
-            time(n, || decode_all(&json, Format::Jsonl)),
-        );
-        report(
-            "serde_json 1 from_slice per line",
-            base,
-            time(n, || serde_lines(&json)),
-        );
-        report(
-            "serde_json 1 StreamDeserializer",
-            base,
-            time(n, || serde_stream(&json)),
-        );
-        report(
-            "simd-json 0.15 from_slice per line",
-            base,
-            time(n, || simd_lines(&json)),
+        compare(
+            n,
+            &[
+                (
+                    "hand-written Decoder::decode",
+                    Box::new(|| decode_all(&json, Format::Jsonl)),
+                ),
+                (
+                    "serde_json 1 from_slice per line",
+                    Box::new(|| serde_lines(&json)),
+                ),
+                (
+                    "serde_json 1 StreamDeserializer",
+                    Box::new(|| serde_stream(&json)),
+                ),
+                (
+                    "simd-json 0.15 from_slice per line",
+                    Box::new(|| simd_lines(&json)),
+                ),
+            ],
         );
     }
 }
