@@ -273,87 +273,117 @@ fn read_csv_into<'l>(
     repeat: &mut [Repeat; 3],
     raw: &mut Raw<'l>,
 ) -> Result<usize, Detail> {
-    let n = line.len();
     let mut pos = 0;
     let mut col = 0;
     loop {
         let action = plan.get(col).copied().unwrap_or(Col::Skip);
-        if let Col::Number(k) = action {
-            let k = usize::from(k);
-            let mut p = pos;
-            while p < n && line[p] == b' ' {
-                p += 1;
+        if let Col::Number(k) = action
+            && let Some(next) = plain_number(line, pos, usize::from(k), repeat, raw)
+        {
+            col += 1;
+            match next {
+                None => return Ok(col),
+                Some(p) => pos = p,
             }
-            let number = match repeat.get_mut(k) {
-                Some(r) => r.get(line, p).or_else(|| {
-                    let (x, len) = scan_number(&line[p..])?;
-                    r.set(&line[p..p + len], x);
-                    Some((x, len))
-                }),
-                None => scan_number(&line[p..]),
-            };
-            if let Some((x, len)) = number {
-                let mut e = p + len;
-                while e < n && matches!(line[e], b' ' | b'\t' | b'\r') {
-                    e += 1;
-                }
-                if e == n || line[e] == b',' {
-                    raw.num[k] = x;
-                    raw.present |= 1 << k;
-                    if k == 0 {
-                        raw.t_text = Some(&line[p..p + len]);
-                    }
-                    col += 1;
-                    if e == n {
-                        return Ok(col);
-                    }
-                    pos = e + 1;
-                    continue;
-                }
-            }
+            continue;
         }
         let (text, at, next) = next_field(line, pos, scratch)?;
-        match action {
-            Col::Skip => {}
-            Col::Mode => {
-                if !text.is_empty() {
-                    raw.robot_mode = Some(parse_mode(text).ok_or(Detail::BadMode)?);
-                }
-            }
-            Col::Id => {
-                if !text.is_empty() {
-                    raw.id = Some(match at {
-                        Some(a) => IdAt::Line(a, a + text.len()),
-                        None => {
-                            id_buf.clear();
-                            id_buf.extend_from_slice(text);
-                            IdAt::Buffer
-                        }
-                    });
-                }
-            }
-            Col::Number(k) => {
-                let k = usize::from(k);
-                let field = [
-                    Field::T,
-                    Field::RobotX,
-                    Field::RobotV,
-                    Field::ObstacleX,
-                    Field::ObstacleV,
-                    Field::ObstacleT,
-                ][k];
-                raw.set(k, number(field, text)?);
-                if k == 0 {
-                    raw.t_text = at.map(|a| &line[a..a + text.len()]);
-                }
-            }
-        }
+        read_field(action, text, at, line, id_buf, raw)?;
         col += 1;
         match next {
             None => return Ok(col),
             Some(p) => pos = p,
         }
     }
+}
+
+/// The common case of a number column: an unquoted number at `pos` (after spaces), up to
+/// the comma or the end of the line, kept at slot `k` of `raw`. Returns where the next field
+/// starts (`Some(None)`: the line ends), or `None` when the field is anything else (empty,
+/// quoted, junk), for [`next_field`] to read.
+#[inline(always)]
+fn plain_number<'l>(
+    line: &'l [u8],
+    pos: usize,
+    k: usize,
+    repeat: &mut [Repeat; 3],
+    raw: &mut Raw<'l>,
+) -> Option<Option<usize>> {
+    let n = line.len();
+    let mut p = pos;
+    while p < n && line[p] == b' ' {
+        p += 1;
+    }
+    let (x, len) = match repeat.get_mut(k) {
+        Some(r) => r.get(line, p).or_else(|| {
+            let (x, len) = scan_number(&line[p..])?;
+            r.set(&line[p..p + len], x);
+            Some((x, len))
+        }),
+        None => scan_number(&line[p..]),
+    }?;
+    let mut e = p + len;
+    while e < n && matches!(line[e], b' ' | b'\t' | b'\r') {
+        e += 1;
+    }
+    if e < n && line[e] != b',' {
+        return None;
+    }
+    raw.num[k] = x;
+    raw.present |= 1 << k;
+    if k == 0 {
+        raw.t_text = Some(&line[p..p + len]);
+    }
+    Some((e < n).then_some(e + 1))
+}
+
+/// A field read by [`next_field`] (`text`, at offset `at` of `line` if it is a slice of it),
+/// stored in `raw` as column `action` asks.
+#[inline]
+fn read_field<'l>(
+    action: Col,
+    text: &[u8],
+    at: Option<usize>,
+    line: &'l [u8],
+    id_buf: &mut Vec<u8>,
+    raw: &mut Raw<'l>,
+) -> Result<(), Detail> {
+    match action {
+        Col::Skip => {}
+        Col::Mode => {
+            if !text.is_empty() {
+                raw.robot_mode = Some(parse_mode(text).ok_or(Detail::BadMode)?);
+            }
+        }
+        Col::Id => {
+            if !text.is_empty() {
+                raw.id = Some(match at {
+                    Some(a) => IdAt::Line(a, a + text.len()),
+                    None => {
+                        id_buf.clear();
+                        id_buf.extend_from_slice(text);
+                        IdAt::Buffer
+                    }
+                });
+            }
+        }
+        Col::Number(k) => {
+            let k = usize::from(k);
+            let field = [
+                Field::T,
+                Field::RobotX,
+                Field::RobotV,
+                Field::ObstacleX,
+                Field::ObstacleV,
+                Field::ObstacleT,
+            ][k];
+            raw.set(k, number(field, text)?);
+            if k == 0 {
+                raw.t_text = at.map(|a| &line[a..a + text.len()]);
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -205,6 +205,16 @@ impl<'l> Raw<'l> {
         (self.present & (1 << slot) != 0).then(|| self.num[slot])
     }
 
+    /// The line is not a sample: what is wrong, with `t` if it was read.
+    #[cold]
+    fn malformed(&self, detail: Detail) -> Decoded<'l> {
+        Decoded::Malformed {
+            t: self.get(0),
+            t_text: self.t_text,
+            detail,
+        }
+    }
+
     #[inline]
     fn set(&mut self, slot: usize, x: Option<f64>) {
         match x {
@@ -274,43 +284,48 @@ impl Decoder {
                     &mut raw,
                 ),
                 Header::Broken => Err(Detail::NoHeader),
-                Header::Pending => {
-                    return match Columns::from_header(line) {
-                        Ok(c) => {
-                            self.header = Header::Ready(c);
-                            Decoded::Header
-                        }
-                        Err(detail) => {
-                            self.header = Header::Broken;
-                            Decoded::Malformed {
-                                t: None,
-                                t_text: None,
-                                detail,
-                            }
-                        }
-                    };
-                }
+                Header::Pending => return self.read_header(line),
             },
             Format::Jsonl => read_json_into(line, &mut self.id_buf, &mut self.key, &mut raw),
         };
-        let malformed = |detail, raw: &Raw<'l>| Decoded::Malformed {
-            t: raw.get(0),
-            t_text: raw.t_text,
-            detail,
-        };
-        if let Err(detail) = read {
-            return malformed(detail, &raw);
+        match read {
+            Ok(()) => self.sample(line, &raw),
+            Err(detail) => raw.malformed(detail),
         }
+    }
+
+    /// The CSV header: the columns, or (once) why the line is not a usable header.
+    fn read_header<'l>(&mut self, line: &'l [u8]) -> Decoded<'l> {
+        match Columns::from_header(line) {
+            Ok(c) => {
+                self.header = Header::Ready(c);
+                Decoded::Header
+            }
+            Err(detail) => {
+                self.header = Header::Broken;
+                Decoded::Malformed {
+                    t: None,
+                    t_text: None,
+                    detail,
+                }
+            }
+        }
+    }
+
+    /// The sample a line's fields make, once the required ones are there and the obstacle
+    /// has an integer id.
+    #[inline]
+    fn sample<'l>(&mut self, line: &'l [u8], raw: &Raw<'l>) -> Decoded<'l> {
         // t, robot_x, robot_v and obstacle_x are required.
         if raw.present & 0b1111 != 0b1111 {
             let missing = [Field::T, Field::RobotX, Field::RobotV, Field::ObstacleX]
                 .into_iter()
                 .find(|&f| num_slot(f).is_some_and(|k| raw.get(k).is_none()))
                 .unwrap_or(Field::T);
-            return malformed(Detail::MissingField(missing), &raw);
+            return raw.malformed(Detail::MissingField(missing));
         }
         let Some(id_at) = raw.id else {
-            return malformed(Detail::MissingField(Field::ObstacleId), &raw);
+            return raw.malformed(Detail::MissingField(Field::ObstacleId));
         };
         let text = match id_at {
             IdAt::Line(a, b) => &line[a..b],
@@ -318,7 +333,7 @@ impl Decoder {
         };
         let Some(obstacle_id) = self.ids.get_or_insert(text) else {
             let limit = self.ids.limit;
-            return malformed(Detail::TooManyObstacles { limit }, &raw);
+            return raw.malformed(Detail::TooManyObstacles { limit });
         };
         Decoded::Sample {
             sample: Sample {
