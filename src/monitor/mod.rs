@@ -99,6 +99,17 @@
 //!
 //! After the first violation the verdict stays [`Verdict::Violated`] (the robot may not have
 //! obeyed), but every later violation is still reported.
+//!
+//! # Where things are
+//!
+//! The premises are the certificate's typed list,
+//! [`PremiseKind`](crate::proof::premise::PremiseKind); each is checked in `check/` by the
+//! file of its idea (`obstacle.rs`, `timing.rs`, `braking.rs`; the fail-safe checks in
+//! `input.rs`), next to its row of units and reasons. Every per-check table is indexed by
+//! [`Check::index`]. Adding a premise is its variant in `proof/premise.rs`, its field in
+//! [`Bounds`], and its check. Events are built with a small `Violation` builder
+//! (`event.rs`); the end-of-trace [`Summary`] is in `summary.rs`; text traces are read by
+//! [`trace`].
 
 use crate::core::semantics::Mode;
 use crate::proof::certificate::{self, Certificate};

@@ -262,8 +262,8 @@ pub(super) fn read_csv<'l>(
 ///
 /// A number column is read straight from the line ([`scan_number`] stops at the comma), so
 /// the common row is scanned once; `t`, `robot_x`, `robot_v` are not even parsed when their
-/// text repeats the previous row's ([`Repeat`]). Anything unusual in a field (quotes, `inf`,
-/// more than 19 digits, junk) goes through [`next_field`] and [`parse_f64`].
+/// text repeats the previous row's ([`Repeat`]). Anything unusual in a field (quotes, empty
+/// cells, junk) goes through [`next_field`] and [`parse_f64`].
 #[inline]
 fn read_csv_into<'l>(
     plan: &[Col],

@@ -2,9 +2,12 @@
 //!
 //! The monitor's throughput on a text trace is the speed of this reader, so it works on
 //! bytes, one line at a time, without allocating per line: fields are sliced out of the line,
-//! numbers parsed in place ([`parse_f64`]: an exact fast path for short decimals, the
-//! standard library's correctly rounded parser otherwise), and textual obstacle ids are mapped
-//! to the monitor's integer ids once per new obstacle ([`Ids`]).
+//! numbers parsed in place and correctly rounded ([`parse_f64`]), and textual obstacle ids are
+//! mapped to the monitor's integer ids once per new obstacle ([`Ids`]).
+//!
+//! One idea per file: `number.rs` (numbers), `csv.rs` (the header's columns and CSV rows),
+//! `jsonl.rs` (JSON Lines), `ids.rs` (obstacle ids); this file holds the [`Decoder`] that
+//! turns a line of either format into a [`Sample`].
 //!
 //! A line that cannot be read is not an error of the reader: [`Decoder::decode`] returns
 //! [`Decoded::Malformed`] with a [`Detail`], which the caller hands to
