@@ -95,7 +95,10 @@ fn summary(cert: &Certificate) -> String {
     for p in &cert.premises {
         s += &format!(
             "    {:<21} {} {} {}\n",
-            p.name, p.description, p.bound, p.unit
+            p.name,
+            p.description(),
+            p.bound,
+            p.unit()
         );
     }
     s

@@ -75,8 +75,37 @@ pub fn trace_jsonl(rows: &[TraceRow], obstacle_id: &str) -> String {
 /// The trace in the format `path`'s extension names: JSON Lines for `.jsonl` or `.ndjson`,
 /// CSV otherwise.
 pub fn trace_for_path(path: &Path, rows: &[TraceRow], obstacle_id: &str) -> String {
-    match crate::monitor::trace::Format::from_path(path) {
-        Some(crate::monitor::trace::Format::Jsonl) => trace_jsonl(rows, obstacle_id),
+    match TraceFormat::from_path(path) {
+        Some(TraceFormat::Jsonl) => trace_jsonl(rows, obstacle_id),
         _ => trace_csv(rows, obstacle_id),
+    }
+}
+
+/// A trace's format: what `simulate --trace` writes and the monitor reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TraceFormat {
+    /// Comma-separated values with a header.
+    Csv,
+    /// One JSON object per line.
+    Jsonl,
+}
+
+impl TraceFormat {
+    /// The format a file's extension names: `.csv`, `.jsonl` or `.ndjson`.
+    pub fn from_path(path: &Path) -> Option<TraceFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "csv" => Some(TraceFormat::Csv),
+            "jsonl" | "ndjson" => Some(TraceFormat::Jsonl),
+            _ => None,
+        }
+    }
+
+    /// The name used on the command line.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TraceFormat::Csv => "csv",
+            TraceFormat::Jsonl => "jsonl",
+        }
     }
 }

@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::core::model::Problem;
+pub use crate::proof::premise::{Premise, PremiseKind, premises};
 use crate::proof::program::ProofKind;
 use crate::proof::schedule::Piece;
 use crate::proof::verdict::{Verdict, Witness};
@@ -28,73 +29,6 @@ pub use crate::proof::check::{CheckReport, Invalid, check};
 
 /// The format tag written into every certificate.
 pub const FORMAT: &str = "safereach-certificate/1";
-
-/// A premise the verdict was proved under: what the runtime monitor checks.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Premise {
-    /// Name, e.g. `obstacle_speed`.
-    pub name: String,
-    /// Human wording of the premise.
-    pub description: String,
-    /// The bound.
-    pub bound: f64,
-    /// Its unit.
-    pub unit: String,
-}
-
-/// The premises of a problem's verdict (DESIGN.md §3).
-pub fn premises(problem: &Problem) -> Vec<Premise> {
-    let r = &problem.robot;
-    let p = |name: &str, description: &str, bound: f64, unit: &str| Premise {
-        name: name.into(),
-        description: description.into(),
-        bound,
-        unit: unit.into(),
-    };
-    vec![
-        p(
-            "obstacle_speed",
-            "every obstacle's speed towards the robot is at most",
-            problem.environment.obstacle_speed,
-            "m/s",
-        ),
-        p(
-            "braking_deceleration",
-            "the robot decelerates while braking by at least",
-            r.braking,
-            "m/s^2",
-        ),
-        p(
-            "control_period",
-            "the controller runs at least once every",
-            r.control_period,
-            "s",
-        ),
-        p(
-            "latency",
-            "observations lag behind by at most",
-            f64::from(r.latency),
-            "control periods",
-        ),
-        // The reaction radius, or the initial gap when that is smaller: the model's obstacle
-        // starts there, inside the area, and then that is what the proof covers.
-        p(
-            "first_detection_gap",
-            "an obstacle is first seen at a gap of at least",
-            problem
-                .controller
-                .reaction_radius
-                .min(problem.environment.initial_gap),
-            "m",
-        ),
-        p(
-            "observation_noise",
-            "observed gap and speed are off by at most",
-            0.0,
-            "m",
-        ),
-    ]
-}
 
 /// One piece's proof.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

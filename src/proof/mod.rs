@@ -6,6 +6,7 @@
 
 pub mod certificate;
 pub mod check;
+pub mod premise;
 pub mod program;
 pub mod schedule;
 pub mod verdict;

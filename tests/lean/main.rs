@@ -316,3 +316,53 @@ fn only_valid_certified_certificates_are_monitored() {
         Err(MonitorError::Invalid(_))
     ));
 }
+
+/// The layers import downward only (core <- proof <- analysis; monitor and crosscheck over
+/// core and proof; cli over all): no `crate::` path in a layer names a layer above it.
+/// The lean build already proves that nothing below `analysis` needs the solver; this
+/// catches an upward import between layers that build together (core naming the monitor).
+#[test]
+fn layers_import_downward_only() {
+    let forbidden: &[(&str, &[&str])] = &[
+        (
+            "core",
+            &["proof", "analysis", "monitor", "crosscheck", "cli"],
+        ),
+        ("proof", &["analysis", "monitor", "crosscheck", "cli"]),
+        ("monitor", &["analysis", "crosscheck", "cli"]),
+        ("crosscheck", &["analysis", "monitor", "cli"]),
+        ("analysis", &["monitor", "crosscheck", "cli"]),
+    ];
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut offences = Vec::new();
+    for (layer, above) in forbidden {
+        let mut stack = vec![src.join(layer)];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).expect("layer folder").flatten() {
+                let path = entry.path();
+                if path.is_dir() {
+                    stack.push(path);
+                    continue;
+                }
+                let text = std::fs::read_to_string(&path).expect("source file");
+                for (n, line) in text.lines().enumerate() {
+                    let code = line.split("//").next().unwrap_or("");
+                    for upper in *above {
+                        if code.contains(&format!("crate::{upper}")) {
+                            offences.push(format!("{}:{}: {}", path.display(), n + 1, line.trim()));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        offences.is_empty(),
+        "upward imports:\n{}",
+        offences.join("\n")
+    );
+    assert!(
+        src.join("core/semantics.rs").exists(),
+        "the walk looked at the real tree"
+    );
+}

@@ -1,0 +1,97 @@
+//! The fail-safe checks on the input itself: a sample that fails one is reported and
+//! otherwise ignored (it changes no state). Non-finite numbers, obstacle ids beyond the
+//! table, time going backwards, the same obstacle twice at one instant, and a robot state
+//! that differs from the instant's first sample.
+
+use super::Check;
+use crate::monitor::event::{Detail, Violation};
+use crate::monitor::{Field, Monitor, RobotAt, Sample, Track};
+
+/// The first non-finite field of a sample.
+#[inline]
+pub(crate) fn non_finite(s: &Sample) -> Option<Field> {
+    let all = s.t.is_finite()
+        & s.robot_x.is_finite()
+        & s.robot_v.is_finite()
+        & s.obstacle_x.is_finite()
+        & s.obstacle_v.is_none_or(f64::is_finite)
+        & s.obstacle_t.is_none_or(f64::is_finite);
+    if all {
+        return None;
+    }
+    [
+        (Field::T, s.t),
+        (Field::RobotX, s.robot_x),
+        (Field::RobotV, s.robot_v),
+        (Field::ObstacleX, s.obstacle_x),
+        (Field::ObstacleV, s.obstacle_v.unwrap_or(0.0)),
+        (Field::ObstacleT, s.obstacle_t.unwrap_or(0.0)),
+    ]
+    .into_iter()
+    .find(|(_, x)| !x.is_finite())
+    .map(|(f, _)| f)
+}
+
+impl Monitor {
+    /// The obstacle's record, growing the table on a new largest id; `None` (reported) for a
+    /// sample with a non-finite number or an id beyond the table.
+    #[inline]
+    pub(in crate::monitor) fn admit(&mut self, s: &Sample) -> Option<Track> {
+        let id = s.obstacle_id;
+        if let Some(field) = non_finite(s) {
+            self.count(Check::NonFinite);
+            let t = Some(s.t).filter(|t| t.is_finite());
+            let event = Violation::of_input(Check::NonFinite, t, Some(id));
+            self.raise(event.detail(Detail::NonFinite(field)));
+            return None;
+        }
+        if id >= self.max_obstacles {
+            self.count(Check::MalformedSample);
+            let detail = Detail::ObstacleIdOutOfRange {
+                limit: self.max_obstacles,
+            };
+            self.raise(Violation::at(Check::MalformedSample, s).detail(detail));
+            return None;
+        }
+        let idx = id as usize;
+        if idx >= self.obstacles.len() {
+            self.obstacles.resize(idx + 1, Track::default());
+        }
+        Some(self.obstacles[idx])
+    }
+
+    /// A sample at or before the current instant `r`: time going backwards, the obstacle
+    /// twice at the instant, or a robot state that differs from the instant's are rejected
+    /// (reported); a robot mode the instant lacked is adopted. Whether it is accepted.
+    #[inline]
+    pub(in crate::monitor) fn join_instant(
+        &mut self,
+        s: &Sample,
+        r: RobotAt,
+        track: &Track,
+    ) -> bool {
+        if s.t < r.t {
+            let event = Violation::at(Check::TimeBackwards, s);
+            self.raise(event.observed(s.t).bound(r.t));
+            return false;
+        }
+        if track.seen && track.instant == self.instant {
+            self.raise(Violation::at(Check::DuplicateSample, s).observed(s.t));
+            return false;
+        }
+        let mode_differs = matches!((r.mode, s.robot_mode), (Some(a), Some(m)) if a != m);
+        if r.x != s.robot_x || r.v != s.robot_v || mode_differs {
+            self.count(Check::MalformedSample);
+            let event = Violation::at(Check::MalformedSample, s);
+            self.raise(event.detail(Detail::RobotStateDiffers));
+            return false;
+        }
+        if r.mode.is_none() && s.robot_mode.is_some() {
+            self.robot = Some(RobotAt {
+                mode: s.robot_mode,
+                ..r
+            });
+        }
+        true
+    }
+}

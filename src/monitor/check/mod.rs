@@ -1,0 +1,325 @@
+//! The monitor's checks, one idea per file: what it checks ([`Check`]: the certificate's
+//! premises, then the fail-safe checks on the input), the bounds it checks them against
+//! ([`Bounds`]), and how each premise is checked.
+//!
+//! Every per-check table of the monitor (counters of evaluations and violations, units,
+//! reasons for "not checked" and "not monitored") is indexed by [`Check::index`], which for
+//! a premise is its [`PremiseKind::index`]: adding a premise is its variant in
+//! `proof/premise.rs`, its bound in [`Bounds`], and its check here — a [`PremiseCheck`] row
+//! and the function that evaluates it, in the file of its idea:
+//!
+//! - `obstacle.rs`: what the environment does (`obstacle_speed`, `first_detection_gap`,
+//!   `observation_noise`);
+//! - `timing.rs`: when the controller runs and what it sees (`control_period`, `latency`);
+//! - `braking.rs`: what the robot does (`braking_deceleration`);
+//! - `input.rs`: the fail-safe checks on the input and the instant a sample belongs to.
+
+use std::fmt;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use super::MonitorError;
+use crate::proof::premise::{Premise, PremiseKind};
+
+mod braking;
+mod input;
+mod obstacle;
+mod timing;
+
+/// Rounding error of one derived quantity, in units of its operands' magnitude.
+const ROUNDING: f64 = 8.0 * f64::EPSILON;
+
+/// The slack of `x0 − x1` (or of a rate `(x0 − x1)/d`) due to rounding in its operands.
+#[inline]
+fn rounding(x0: f64, x1: f64) -> f64 {
+    ROUNDING * (x0.abs() + x1.abs())
+}
+
+/// A fail-safe check on the input itself (not a premise of the certificate).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum FailSafe {
+    /// The input is not a readable sample.
+    MalformedSample,
+    /// A number is NaN or infinite.
+    NonFinite,
+    /// Time went backwards.
+    TimeBackwards,
+    /// The same obstacle twice at one instant.
+    DuplicateSample,
+}
+
+impl FailSafe {
+    /// Every fail-safe check, in output order.
+    pub const ALL: [FailSafe; 4] = [
+        FailSafe::MalformedSample,
+        FailSafe::NonFinite,
+        FailSafe::TimeBackwards,
+        FailSafe::DuplicateSample,
+    ];
+
+    /// The stable name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            FailSafe::MalformedSample => "malformed_sample",
+            FailSafe::NonFinite => "non_finite",
+            FailSafe::TimeBackwards => "time_backwards",
+            FailSafe::DuplicateSample => "duplicate_sample",
+        }
+    }
+}
+
+/// What the monitor checks: the certificate's premises, then the fail-safe checks on the
+/// input. The names are stable (they appear in output as `premise`).
+///
+/// The associated constants (`Check::ObstacleSpeed`, …, `Check::DuplicateSample`) name every
+/// check directly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Check {
+    /// A premise of the certificate.
+    Premise(PremiseKind),
+    /// A fail-safe check on the input.
+    FailSafe(FailSafe),
+}
+
+#[allow(non_upper_case_globals)]
+impl Check {
+    /// Obstacle speed towards the robot ≤ W.
+    pub const ObstacleSpeed: Check = Check::Premise(PremiseKind::ObstacleSpeed);
+    /// Deceleration while braking ≥ b.
+    pub const BrakingDeceleration: Check = Check::Premise(PremiseKind::BrakingDeceleration);
+    /// Time between instants ≤ dt.
+    pub const ControlPeriod: Check = Check::Premise(PremiseKind::ControlPeriod);
+    /// Observation age ≤ L control periods.
+    pub const Latency: Check = Check::Premise(PremiseKind::Latency);
+    /// A new obstacle is first seen at a gap ≥ ρ.
+    pub const FirstDetectionGap: Check = Check::Premise(PremiseKind::FirstDetectionGap);
+    /// Observation error ≤ σ (not monitorable from a trace).
+    pub const ObservationNoise: Check = Check::Premise(PremiseKind::ObservationNoise);
+    /// The input is not a readable sample.
+    pub const MalformedSample: Check = Check::FailSafe(FailSafe::MalformedSample);
+    /// A number is NaN or infinite.
+    pub const NonFinite: Check = Check::FailSafe(FailSafe::NonFinite);
+    /// Time went backwards.
+    pub const TimeBackwards: Check = Check::FailSafe(FailSafe::TimeBackwards);
+    /// The same obstacle twice at one instant.
+    pub const DuplicateSample: Check = Check::FailSafe(FailSafe::DuplicateSample);
+}
+
+impl Check {
+    /// How many checks there are: the size of the monitor's counters.
+    pub const COUNT: usize = PremiseKind::COUNT + FailSafe::ALL.len();
+
+    /// Every check: the premises in the certificate's order, then the fail-safe ones.
+    pub const ALL: [Check; Check::COUNT] = {
+        let mut all = [Check::MalformedSample; Check::COUNT];
+        let mut i = 0;
+        while i < Check::COUNT {
+            all[i] = if i < PremiseKind::COUNT {
+                Check::Premise(PremiseKind::ALL[i])
+            } else {
+                Check::FailSafe(FailSafe::ALL[i - PremiseKind::COUNT])
+            };
+            i += 1;
+        }
+        all
+    };
+
+    /// The certificate's premises, in its order.
+    pub const PREMISES: [Check; PremiseKind::COUNT] = {
+        let mut all = [Check::MalformedSample; PremiseKind::COUNT];
+        let mut i = 0;
+        while i < PremiseKind::COUNT {
+            all[i] = Check::Premise(PremiseKind::ALL[i]);
+            i += 1;
+        }
+        all
+    };
+
+    /// The fail-safe checks on the input.
+    pub const FAIL_SAFE: [Check; FailSafe::ALL.len()] = [
+        Check::MalformedSample,
+        Check::NonFinite,
+        Check::TimeBackwards,
+        Check::DuplicateSample,
+    ];
+
+    /// The stable name.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Check::Premise(kind) => kind.name(),
+            Check::FailSafe(f) => f.name(),
+        }
+    }
+
+    /// The check named `name`.
+    pub fn from_name(name: &str) -> Option<Check> {
+        Check::ALL.into_iter().find(|c| c.as_str() == name)
+    }
+
+    /// Whether this is a fail-safe check on the input rather than a certificate premise.
+    pub fn is_fail_safe(self) -> bool {
+        matches!(self, Check::FailSafe(_))
+    }
+
+    /// The premise checked, if this is one.
+    pub fn premise(self) -> Option<PremiseKind> {
+        match self {
+            Check::Premise(kind) => Some(kind),
+            Check::FailSafe(_) => None,
+        }
+    }
+
+    /// The unit of its observed value and bound (empty when it has none).
+    pub fn unit(self) -> &'static str {
+        match self {
+            Check::Premise(kind) => PremiseCheck::of(kind).unit,
+            Check::FailSafe(FailSafe::TimeBackwards | FailSafe::DuplicateSample) => "s",
+            Check::FailSafe(FailSafe::MalformedSample | FailSafe::NonFinite) => "",
+        }
+    }
+
+    /// How observed and bound compare when violated: `>` (above the bound) or `<`.
+    pub fn relation(self) -> &'static str {
+        match self {
+            Check::Premise(kind) => PremiseCheck::of(kind).relation,
+            Check::FailSafe(FailSafe::TimeBackwards) => "<",
+            Check::FailSafe(_) => ">",
+        }
+    }
+
+    /// Its index in [`Check::ALL`]: the index into the monitor's per-check tables.
+    #[inline]
+    pub const fn index(self) -> usize {
+        match self {
+            Check::Premise(kind) => kind.index(),
+            Check::FailSafe(f) => PremiseKind::COUNT + f as usize,
+        }
+    }
+}
+
+impl From<PremiseKind> for Check {
+    fn from(kind: PremiseKind) -> Check {
+        Check::Premise(kind)
+    }
+}
+
+impl fmt::Display for Check {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl Serialize for Check {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for Check {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Check, D::Error> {
+        let name = String::deserialize(d)?;
+        Check::from_name(&name)
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown check `{name}`")))
+    }
+}
+
+/// What the trace carried, which decides whether some premises can be monitored at all.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Carried {
+    /// Some sample had `robot_mode`.
+    pub(crate) mode: bool,
+    /// Some sample had `obstacle_t`.
+    pub(crate) observation_time: bool,
+}
+
+/// How the monitor treats one premise: its row in the per-premise table.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PremiseCheck {
+    /// Unit of observed values and the bound in events.
+    pub(crate) unit: &'static str,
+    /// Violated when observed is above (`>`) or below (`<`) the bound.
+    pub(crate) relation: &'static str,
+    /// Whether a bound of 0 is unusable (not only a negative one).
+    pub(crate) positive: bool,
+    /// Why it was not checked, when no sample gave the opportunity.
+    pub(crate) not_checked: &'static str,
+    /// Why it cannot be monitored on a trace that carried this (`None`: it can).
+    pub(crate) not_monitored: fn(Carried) -> Option<&'static str>,
+}
+
+/// For premises every trace can monitor.
+fn always_monitored(_: Carried) -> Option<&'static str> {
+    None
+}
+
+impl PremiseCheck {
+    /// The row of `kind`.
+    pub(crate) fn of(kind: PremiseKind) -> &'static PremiseCheck {
+        match kind {
+            PremiseKind::ObstacleSpeed => &obstacle::OBSTACLE_SPEED,
+            PremiseKind::BrakingDeceleration => &braking::BRAKING_DECELERATION,
+            PremiseKind::ControlPeriod => &timing::CONTROL_PERIOD,
+            PremiseKind::Latency => &timing::LATENCY,
+            PremiseKind::FirstDetectionGap => &obstacle::FIRST_DETECTION_GAP,
+            PremiseKind::ObservationNoise => &obstacle::OBSERVATION_NOISE,
+        }
+    }
+}
+
+/// The bounds the monitor checks, read from a certificate's premises.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// W (m/s).
+    pub obstacle_speed: f64,
+    /// b (m/s²).
+    pub braking_deceleration: f64,
+    /// dt (s).
+    pub control_period: f64,
+    /// L (control periods).
+    pub latency: f64,
+    /// ρ (m).
+    pub first_detection_gap: f64,
+    /// σ (m).
+    pub observation_noise: f64,
+}
+
+impl Bounds {
+    /// The bound of `check` (`None` for the fail-safe checks).
+    pub fn of(&self, check: Check) -> Option<f64> {
+        Some(match check.premise()? {
+            PremiseKind::ObstacleSpeed => self.obstacle_speed,
+            PremiseKind::BrakingDeceleration => self.braking_deceleration,
+            PremiseKind::ControlPeriod => self.control_period,
+            PremiseKind::Latency => self.latency,
+            PremiseKind::FirstDetectionGap => self.first_detection_gap,
+            PremiseKind::ObservationNoise => self.observation_noise,
+        })
+    }
+
+    /// The bounds of `premises` (the first of each kind), each finite and not negative (and
+    /// positive where the check needs it, as for the control period).
+    pub fn from_premises(premises: &[Premise]) -> Result<Bounds, MonitorError> {
+        let mut table: [Option<f64>; PremiseKind::COUNT] = [None; PremiseKind::COUNT];
+        for p in premises {
+            table[p.name.index()].get_or_insert(p.bound);
+        }
+        let bound = |kind: PremiseKind| -> Result<f64, MonitorError> {
+            let name = kind.name();
+            let bound = table[kind.index()].ok_or(MonitorError::MissingPremise(name))?;
+            let positive = PremiseCheck::of(kind).positive;
+            if bound.is_finite() && bound >= 0.0 && (!positive || bound > 0.0) {
+                Ok(bound)
+            } else {
+                Err(MonitorError::BadBound { name, bound })
+            }
+        };
+        Ok(Bounds {
+            obstacle_speed: bound(PremiseKind::ObstacleSpeed)?,
+            braking_deceleration: bound(PremiseKind::BrakingDeceleration)?,
+            control_period: bound(PremiseKind::ControlPeriod)?,
+            latency: bound(PremiseKind::Latency)?,
+            first_detection_gap: bound(PremiseKind::FirstDetectionGap)?,
+            observation_noise: bound(PremiseKind::ObservationNoise)?,
+        })
+    }
+}

@@ -1,0 +1,75 @@
+//! The columns of a trace: the names a sample's fields have in CSV headers and JSON keys,
+//! shared by the trace reader (which looks them up) and the monitor's input checks (which
+//! name the field that is wrong).
+
+use std::fmt;
+
+/// A column of a trace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Field {
+    /// `t`
+    T,
+    /// `robot_x`
+    RobotX,
+    /// `robot_v`
+    RobotV,
+    /// `robot_mode`
+    RobotMode,
+    /// `obstacle_id`
+    ObstacleId,
+    /// `obstacle_x`
+    ObstacleX,
+    /// `obstacle_v`
+    ObstacleV,
+    /// `obstacle_t`
+    ObstacleT,
+}
+
+impl Field {
+    /// Every column, required ones first.
+    pub const ALL: [Field; 8] = [
+        Field::T,
+        Field::RobotX,
+        Field::RobotV,
+        Field::ObstacleId,
+        Field::ObstacleX,
+        Field::ObstacleV,
+        Field::RobotMode,
+        Field::ObstacleT,
+    ];
+
+    /// The column's name in traces.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Field::T => "t",
+            Field::RobotX => "robot_x",
+            Field::RobotV => "robot_v",
+            Field::RobotMode => "robot_mode",
+            Field::ObstacleId => "obstacle_id",
+            Field::ObstacleX => "obstacle_x",
+            Field::ObstacleV => "obstacle_v",
+            Field::ObstacleT => "obstacle_t",
+        }
+    }
+
+    /// The column named `name`.
+    pub fn from_name(name: &[u8]) -> Option<Field> {
+        Field::ALL
+            .into_iter()
+            .find(|f| f.as_str().as_bytes() == name)
+    }
+
+    /// Whether every sample must have it.
+    pub fn required(self) -> bool {
+        matches!(
+            self,
+            Field::T | Field::RobotX | Field::RobotV | Field::ObstacleId | Field::ObstacleX
+        )
+    }
+}
+
+impl fmt::Display for Field {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}

@@ -1,0 +1,298 @@
+//! The premises a verdict is proved under, as one typed list shared by the certificate that
+//! states them and the runtime monitor that checks them (DESIGN.md §3).
+//!
+//! A certificate says "passively safe, *provided that* obstacles move at most at W, the robot
+//! brakes at least at b, …". Each of those provisos is a [`PremiseKind`]: it knows its name,
+//! unit and wording, and where its bound comes from in a [`Problem`]. A [`Premise`] is a kind
+//! with its bound. Adding a premise is one variant here (the compiler then asks for its name,
+//! wording, unit and bound) plus its check in the monitor.
+//!
+//! On the wire a premise is the object `{"name", "description", "bound", "unit"}`, in that
+//! order, exactly as certificates have always written it, so old certificates read and verify
+//! unchanged (their digest covers this text). Reading is strict: a premise whose name this
+//! build does not know, or whose wording or unit differs from the kind's, is an error naming
+//! it, never silently skipped.
+
+use std::fmt;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::core::model::Problem;
+
+/// Which premise: one of the provisos a verdict is proved under.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PremiseKind {
+    /// Every obstacle's speed towards the robot is at most W (m/s).
+    ObstacleSpeed,
+    /// The robot decelerates while braking by at least b (m/s²).
+    BrakingDeceleration,
+    /// The controller runs at least once every dt (s).
+    ControlPeriod,
+    /// Observations lag behind by at most L control periods.
+    Latency,
+    /// An obstacle is first seen at a gap of at least ρ (m).
+    FirstDetectionGap,
+    /// Observed gap and speed are off by at most σ (m).
+    ObservationNoise,
+}
+
+impl PremiseKind {
+    /// Every premise, in the order certificates list them.
+    pub const ALL: [PremiseKind; 6] = [
+        PremiseKind::ObstacleSpeed,
+        PremiseKind::BrakingDeceleration,
+        PremiseKind::ControlPeriod,
+        PremiseKind::Latency,
+        PremiseKind::FirstDetectionGap,
+        PremiseKind::ObservationNoise,
+    ];
+
+    /// How many premises there are: the size of every per-premise table.
+    pub const COUNT: usize = PremiseKind::ALL.len();
+
+    /// Its position in [`PremiseKind::ALL`]: the index into per-premise tables.
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The stable name (`obstacle_speed`, …) used in certificates and monitor output.
+    pub const fn name(self) -> &'static str {
+        match self {
+            PremiseKind::ObstacleSpeed => "obstacle_speed",
+            PremiseKind::BrakingDeceleration => "braking_deceleration",
+            PremiseKind::ControlPeriod => "control_period",
+            PremiseKind::Latency => "latency",
+            PremiseKind::FirstDetectionGap => "first_detection_gap",
+            PremiseKind::ObservationNoise => "observation_noise",
+        }
+    }
+
+    /// The premise in words, to be followed by its bound and unit.
+    pub const fn description(self) -> &'static str {
+        match self {
+            PremiseKind::ObstacleSpeed => "every obstacle's speed towards the robot is at most",
+            PremiseKind::BrakingDeceleration => "the robot decelerates while braking by at least",
+            PremiseKind::ControlPeriod => "the controller runs at least once every",
+            PremiseKind::Latency => "observations lag behind by at most",
+            PremiseKind::FirstDetectionGap => "an obstacle is first seen at a gap of at least",
+            PremiseKind::ObservationNoise => "observed gap and speed are off by at most",
+        }
+    }
+
+    /// The unit of its bound, as certificates write it.
+    pub const fn unit(self) -> &'static str {
+        match self {
+            PremiseKind::ObstacleSpeed => "m/s",
+            PremiseKind::BrakingDeceleration => "m/s^2",
+            PremiseKind::ControlPeriod => "s",
+            PremiseKind::Latency => "control periods",
+            PremiseKind::FirstDetectionGap | PremiseKind::ObservationNoise => "m",
+        }
+    }
+
+    /// Its bound in `problem`.
+    pub fn bound_in(self, problem: &Problem) -> f64 {
+        let r = &problem.robot;
+        match self {
+            PremiseKind::ObstacleSpeed => problem.environment.obstacle_speed,
+            PremiseKind::BrakingDeceleration => r.braking,
+            PremiseKind::ControlPeriod => r.control_period,
+            PremiseKind::Latency => f64::from(r.latency),
+            // The reaction radius, or the initial gap when that is smaller: the model's
+            // obstacle starts there, inside the area, and then that is what the proof covers.
+            PremiseKind::FirstDetectionGap => problem
+                .controller
+                .reaction_radius
+                .min(problem.environment.initial_gap),
+            // The model observes exactly.
+            PremiseKind::ObservationNoise => 0.0,
+        }
+    }
+
+    /// The premise named `name`.
+    pub fn from_name(name: &str) -> Option<PremiseKind> {
+        PremiseKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+impl fmt::Display for PremiseKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl PartialEq<str> for PremiseKind {
+    fn eq(&self, name: &str) -> bool {
+        self.name() == name
+    }
+}
+
+impl PartialEq<&str> for PremiseKind {
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
+    }
+}
+
+/// A premise of a verdict: its kind and bound (wording and unit come with the kind).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Premise {
+    /// Which premise; written as its name (it compares equal to the name as a string).
+    pub name: PremiseKind,
+    /// The bound, in [`Premise::unit`].
+    pub bound: f64,
+}
+
+impl Premise {
+    /// The premise of kind `name` with its bound in `problem`.
+    pub fn of(name: PremiseKind, problem: &Problem) -> Premise {
+        Premise {
+            name,
+            bound: name.bound_in(problem),
+        }
+    }
+
+    /// Its kind.
+    pub fn kind(&self) -> PremiseKind {
+        self.name
+    }
+
+    /// The premise in words, to be followed by the bound and unit.
+    pub fn description(&self) -> &'static str {
+        self.name.description()
+    }
+
+    /// The bound's unit.
+    pub fn unit(&self) -> &'static str {
+        self.name.unit()
+    }
+}
+
+/// The premises of a problem's verdict, in [`PremiseKind::ALL`] order (DESIGN.md §3).
+pub fn premises(problem: &Problem) -> Vec<Premise> {
+    PremiseKind::ALL
+        .into_iter()
+        .map(|kind| Premise::of(kind, problem))
+        .collect()
+}
+
+/// A premise as written: the field order here is the order in certificates.
+#[derive(Serialize)]
+struct Written<'a> {
+    name: &'a str,
+    description: &'a str,
+    bound: f64,
+    unit: &'a str,
+}
+
+/// A premise as read, before its name is known to be one of ours.
+#[derive(Deserialize)]
+struct Read {
+    name: String,
+    description: String,
+    bound: f64,
+    unit: String,
+}
+
+impl Serialize for Premise {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        Written {
+            name: self.name.name(),
+            description: self.name.description(),
+            bound: self.bound,
+            unit: self.name.unit(),
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Premise {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Premise, D::Error> {
+        let read = Read::deserialize(d)?;
+        Premise::try_from(read).map_err(serde::de::Error::custom)
+    }
+}
+
+impl TryFrom<Read> for Premise {
+    type Error = String;
+
+    fn try_from(read: Read) -> Result<Premise, String> {
+        let Some(kind) = PremiseKind::from_name(&read.name) else {
+            return Err(format!(
+                "certificate premise '{}' is not known to this monitor",
+                read.name
+            ));
+        };
+        let differs = |what: &str, found: &str, known: &str| {
+            format!(
+                "certificate premise '{}' has {what} {found:?}, but this build knows it as {known:?}",
+                read.name
+            )
+        };
+        if read.description != kind.description() {
+            return Err(differs(
+                "description",
+                &read.description,
+                kind.description(),
+            ));
+        }
+        if read.unit != kind.unit() {
+            return Err(differs("unit", &read.unit, kind.unit()));
+        }
+        Ok(Premise {
+            name: kind,
+            bound: read.bound,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_as_before() {
+        let p = Premise {
+            name: PremiseKind::ObstacleSpeed,
+            bound: 0.15,
+        };
+        assert_eq!(
+            serde_json::to_string(&p).unwrap(),
+            r#"{"name":"obstacle_speed","description":"every obstacle's speed towards the robot is at most","bound":0.15,"unit":"m/s"}"#
+        );
+        let back: Premise = serde_json::from_str(&serde_json::to_string(&p).unwrap()).unwrap();
+        assert_eq!(back, p);
+        assert!(p.name == "obstacle_speed");
+    }
+
+    #[test]
+    fn every_kind_round_trips() {
+        for (i, kind) in PremiseKind::ALL.into_iter().enumerate() {
+            assert_eq!(kind.index(), i);
+            assert_eq!(PremiseKind::from_name(kind.name()), Some(kind));
+            let p = Premise {
+                name: kind,
+                bound: 1.5,
+            };
+            let text = serde_json::to_string(&p).unwrap();
+            assert_eq!(serde_json::from_str::<Premise>(&text).unwrap(), p);
+        }
+    }
+
+    #[test]
+    fn unknown_or_altered_premises_are_errors() {
+        let unknown = r#"{"name":"wind_speed","description":"x","bound":1.0,"unit":"m/s"}"#;
+        let e = serde_json::from_str::<Premise>(unknown).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("certificate premise 'wind_speed' is not known to this monitor"),
+            "{e}"
+        );
+        let unit = r#"{"name":"latency","description":"observations lag behind by at most","bound":1.0,"unit":"s"}"#;
+        let e = serde_json::from_str::<Premise>(unit).unwrap_err();
+        assert!(e.to_string().contains("premise 'latency' has unit"), "{e}");
+        let wording =
+            r#"{"name":"latency","description":"lag","bound":1.0,"unit":"control periods"}"#;
+        let e = serde_json::from_str::<Premise>(wording).unwrap_err();
+        assert!(e.to_string().contains("has description"), "{e}");
+    }
+}
