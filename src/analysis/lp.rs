@@ -201,3 +201,71 @@ fn csc(dense: &[Vec<f64>], m: usize, n: usize) -> CscMatrix<f64> {
     }
     CscMatrix::new(m, n, colptr, rowval, nzval)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::parameter::ParamAffine;
+    use crate::proof::program::{ConeBlock, Row, Var};
+
+    fn c(x: i64) -> ParamAffine {
+        ParamAffine::constant(Exact::from(x))
+    }
+
+    /// min t s.t. t ≥ ‖(x − 3, y − 4)‖ with x, y ∈ [0, 10] free: optimum 0 at (3, 4), and
+    /// with x fixed at 0, y at 0 by their boxes: optimum 5. Slacks (t, x − 3, y − 4) ∈ SOC,
+    /// written b − A·(t, x, y) with A = −I and b = (0, −3, −4).
+    fn cone_program(fixed: bool) -> Program {
+        let hi = if fixed { 0 } else { 10 };
+        let var = |name: &str, lo: i64, up: i64| Var {
+            name: name.into(),
+            lower: c(lo),
+            upper: c(up),
+        };
+        let row = |a: [i64; 3], b: i64| Row {
+            label: String::new(),
+            a: a.iter().map(|&x| Exact::from(x)).collect(),
+            b: c(b),
+            strict: false,
+        };
+        Program {
+            vars: vec![var("t", 0, 100), var("x", 0, hi), var("y", 0, hi)],
+            rows: vec![row([-1, 0, 0], 0), row([0, -1, 0], -3), row([0, 0, -1], -4)],
+            cones: vec![ConeBlock {
+                cone: Cone::SecondOrder,
+                rows: 3,
+            }],
+            objective: Some(vec![Exact::ONE, Exact::ZERO, Exact::ZERO]),
+            constant: c(0),
+        }
+    }
+
+    #[test]
+    fn second_order_blocks_reach_clarabel_and_their_duals_prove_the_optimum() {
+        for (fixed, optimum) in [(true, 5.0), (false, 0.0)] {
+            let program = cone_program(fixed);
+            let LpOutcome::Optimal { z, value, .. } = solve(&program, 0.0) else {
+                panic!("the cone program solves");
+            };
+            assert!(
+                (value - optimum).abs() < 1e-6,
+                "optimum {value}, expected {optimum}"
+            );
+            // The exact bound from the solver's multipliers, moved into the cone, is a valid
+            // lower bound within the solver's gap of the optimum.
+            let bound = program.bound(&z, true).expect("usable multipliers");
+            let b = bound.to_f64().value();
+            assert!(
+                b <= optimum + 1e-12 && b > optimum - 1e-6,
+                "bound {b} vs {optimum}"
+            );
+        }
+    }
+
+    #[test]
+    fn malformed_programs_are_refused_before_the_solver() {
+        let mut program = cone_program(true);
+        program.cones[0].rows = 2;
+        assert!(matches!(solve(&program, 0.0), LpOutcome::Failed { .. }));
+    }
+}
