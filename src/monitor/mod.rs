@@ -15,13 +15,15 @@
 //! certificate's premises. Then [`Monitor::observe`] takes one [`Sample`] at a time and
 //! returns an [`Outcome`]: the standing [`Verdict`] and the [`Event`]s this sample raised.
 //!
-//! ```no_run
+//! ```
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! # let cert_json = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/seed.cert.json");
 //! use safereach::proof::certificate::Certificate;
 //! use safereach::monitor::{Monitor, Sample, Verdict};
 //! use safereach::core::semantics::Mode;
 //!
-//! let text = std::fs::read_to_string("cert.json")?;
+//! // The seed's certificate: obstacles no faster than W = 0.15 m/s.
+//! let text = std::fs::read_to_string(cert_json)?;
 //! let cert: Certificate = serde_json::from_str(&text)?;
 //! let mut monitor = Monitor::new(&cert)?;
 //! let sample = Sample {
@@ -36,11 +38,12 @@
 //! };
 //! let outcome = monitor.observe(&sample);
 //! for event in outcome.events {
-//!     eprintln!("{event}"); // obstacle_speed observed 0.25 m/s > bound 0.2 m/s -> brake
+//!     eprintln!("{event}"); // obstacle_speed observed 0.25 m/s > bound 0.15 m/s -> brake
 //! }
 //! if outcome.verdict == Verdict::Violated {
 //!     // command the passive safe state: brake to a stop
 //! }
+//! assert_eq!(outcome.verdict, Verdict::Violated);
 //! # Ok(()) }
 //! ```
 //!
