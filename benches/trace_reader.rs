@@ -314,18 +314,6 @@ fn decode_all(text: &str, format: Format) -> usize {
     n
 }
 
-fn mode(text: &[u8]) -> Option<Mode> {
-    [
-        Mode::Idle,
-        Mode::Accelerate,
-        Mode::Drive,
-        Mode::Brake,
-        Mode::Stop,
-    ]
-    .into_iter()
-    .find(|m| m.as_str().as_bytes().eq_ignore_ascii_case(text))
-}
-
 /// The same work as the decoder with the `csv` crate: records, numbers, mode, ids.
 fn csv_crate(text: &str, parse: Parser) -> usize {
     let mut reader = csv::ReaderBuilder::new()
@@ -357,7 +345,7 @@ fn csv_crate(text: &str, parse: Parser) -> usize {
             t: num(t).unwrap_or(f64::NAN),
             robot_x: num(rx).unwrap_or(f64::NAN),
             robot_v: num(rv).unwrap_or(f64::NAN),
-            robot_mode: record.get(rm).and_then(mode),
+            robot_mode: record.get(rm).and_then(Mode::from_name),
             obstacle_id: ids.get_or_insert(&record[id]).unwrap_or(0),
             obstacle_x: num(ox).unwrap_or(f64::NAN),
             obstacle_v: num(ov),
@@ -439,7 +427,7 @@ fn sample(row: &Row, ids: &mut Ids) -> Sample {
         t: row.t,
         robot_x: row.robot_x,
         robot_v: row.robot_v,
-        robot_mode: row.robot_mode.and_then(|m| mode(m.as_bytes())),
+        robot_mode: row.robot_mode.and_then(|m| Mode::from_name(m.as_bytes())),
         obstacle_id: ids.get_or_insert(id).unwrap_or(0),
         obstacle_x: row.obstacle_x,
         obstacle_v: row.obstacle_v,

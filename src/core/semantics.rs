@@ -46,6 +46,22 @@ impl Mode {
             Mode::Stop => "stop",
         }
     }
+
+    /// Every mode, in the automaton's order.
+    pub const ALL: [Mode; 5] = [
+        Mode::Idle,
+        Mode::Accelerate,
+        Mode::Drive,
+        Mode::Brake,
+        Mode::Stop,
+    ];
+
+    /// The mode a trace names, in any ASCII case (`drive`, `Brake`, ...).
+    pub fn from_name(text: &[u8]) -> Option<Mode> {
+        Mode::ALL
+            .into_iter()
+            .find(|m| m.as_str().as_bytes().eq_ignore_ascii_case(text))
+    }
 }
 
 /// The robot's state at an instant.

@@ -3,7 +3,8 @@
 //! numbers parsed where they stand.
 
 use super::number::{parse_f64, scan_number};
-use super::{Format, IdAt, Raw, num_slot, parse_mode, strip_bom, trim};
+use super::{Format, IdAt, Raw, num_slot, strip_bom, trim};
+use crate::core::semantics::Mode;
 use crate::monitor::{Detail, Field};
 
 /// The columns of a CSV trace.
@@ -352,7 +353,7 @@ fn read_field<'l>(
         Col::Skip => {}
         Col::Mode => {
             if !text.is_empty() {
-                raw.robot_mode = Some(parse_mode(text).ok_or(Detail::BadMode)?);
+                raw.robot_mode = Some(Mode::from_name(text).ok_or(Detail::BadMode)?);
             }
         }
         Col::Id => {

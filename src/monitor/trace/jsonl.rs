@@ -7,7 +7,8 @@
 //! not write.
 
 use super::number::parse_f64;
-use super::{IdAt, Raw, num_slot, parse_mode};
+use super::{IdAt, Raw, num_slot};
+use crate::core::semantics::Mode;
 use crate::monitor::{Detail, Field};
 
 struct Json<'l> {
@@ -269,7 +270,7 @@ fn json_field<'l>(
         Field::RobotMode => match j.peek() {
             Some(b'"') => {
                 let (text, _, _) = j.string()?;
-                raw.robot_mode = Some(parse_mode(text).ok_or(Detail::BadMode)?);
+                raw.robot_mode = Some(Mode::from_name(text).ok_or(Detail::BadMode)?);
             }
             _ => {
                 if j.token() != b"null" {

@@ -75,19 +75,6 @@ fn trim(s: &[u8]) -> &[u8] {
     &s[a..b]
 }
 
-/// A robot mode as written in traces (any ASCII case).
-fn parse_mode(s: &[u8]) -> Option<Mode> {
-    [
-        Mode::Idle,
-        Mode::Accelerate,
-        Mode::Drive,
-        Mode::Brake,
-        Mode::Stop,
-    ]
-    .into_iter()
-    .find(|m| m.as_str().as_bytes().eq_ignore_ascii_case(s))
-}
-
 /// What one line of a trace is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Decoded<'l> {
