@@ -1,0 +1,170 @@
+//! Scenes (DESIGN.md §1.1, docs/semantics.md "Scenes"): several obstacles on several lanes,
+//! static and moving, lane changes and a destination.
+//!
+//! A [`Scene`] is what a scene file states, after validation. A single-obstacle
+//! [`Problem`] is the scene with one moving obstacle in lane 0 ([`Scene::from_problem`]),
+//! and a scene that is exactly that gives it back ([`Scene::as_problem`]), so old files
+//! keep their answers and certificates.
+
+use serde::{Deserialize, Serialize};
+
+use crate::core::model::{Controller, Environment, Params, Problem, Robot};
+use crate::core::num::Scalar;
+
+/// A scene: one robot, its controller, the lanes and every obstacle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    /// Short name shown in reports.
+    pub name: String,
+    /// The robot's dynamics and timing (as in a single-obstacle problem).
+    pub robot: Robot,
+    /// The controller's braking rule (as in a single-obstacle problem).
+    pub controller: Controller,
+    /// Destination x (m): the robot brakes to stop at it (`nearDestination`); None: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub goal: Option<f64>,
+    /// Sensing range R ≥ ρ (m); None: unlimited.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensing_range: Option<f64>,
+    /// Lane changes, when the controller may make them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lane_change: Option<LaneChange>,
+    /// Lanes that exist, ascending, without repeats; the robot starts in lane 0.
+    pub lanes: Vec<i32>,
+    /// The obstacles, in file order (their index is their number in `--set obstacle.N.…`).
+    pub obstacles: Vec<Obstacle>,
+}
+
+/// How the controller changes lanes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LaneChange {
+    /// P: whole control periods a lane change lasts, ≥ 1.
+    pub periods: u32,
+    /// A lane is free when no seen obstacle in it is observed at a gap in [−rear_gap, ρ] (m).
+    pub rear_gap: f64,
+}
+
+/// One obstacle of a scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Obstacle {
+    /// Unique name (default `obstacle-<index>`); trace obstacle ids are matched to it.
+    pub name: String,
+    /// The lane it moves in.
+    pub lane: i32,
+    /// Its x at t = 0 (m), ahead of the robot.
+    pub position: Position,
+    /// W_i: bound on its speed towards −x (m/s), ≥ 0.
+    pub max_speed: f64,
+    /// Known to the robot as static (requires `max_speed = 0`): the danger rule counts only
+    /// the robot's own braking (d_static = d_coll with V_a = 0).
+    #[serde(rename = "static")]
+    pub is_static: bool,
+}
+
+/// An obstacle's initial x: a number, or a range chosen adversarially.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Position {
+    /// Exactly here (m).
+    At(f64),
+    /// Anywhere in [min, max] (m).
+    Range(f64, f64),
+}
+
+impl Position {
+    /// The nearest possible initial x (m).
+    pub fn min(&self) -> f64 {
+        match *self {
+            Position::At(x) => x,
+            Position::Range(lo, _) => lo,
+        }
+    }
+
+    /// The farthest possible initial x (m).
+    pub fn max(&self) -> f64 {
+        match *self {
+            Position::At(x) => x,
+            Position::Range(_, hi) => hi,
+        }
+    }
+}
+
+impl Scene {
+    /// The scene a single-obstacle problem stands for: one moving obstacle in lane 0.
+    pub fn from_problem(problem: &Problem) -> Scene {
+        Scene {
+            name: problem.name.clone(),
+            robot: problem.robot.clone(),
+            controller: problem.controller.clone(),
+            goal: None,
+            sensing_range: None,
+            lane_change: None,
+            lanes: vec![0],
+            obstacles: vec![Obstacle {
+                name: "obstacle-0".into(),
+                lane: 0,
+                position: Position::At(problem.environment.initial_gap),
+                max_speed: problem.environment.obstacle_speed,
+                is_static: false,
+            }],
+        }
+    }
+
+    /// The single-obstacle problem this scene is, if it is one: one moving obstacle, in
+    /// lane 0, at a fixed position, no goal, no lane changes. (Lanes and sensing range do
+    /// not change the answer then: see docs/semantics.md.)
+    pub fn as_problem(&self) -> Option<Problem> {
+        let [o] = self.obstacles.as_slice() else {
+            return None;
+        };
+        let Position::At(x) = o.position else {
+            return None;
+        };
+        if o.lane != 0 || o.is_static || self.goal.is_some() || self.lane_change.is_some() {
+            return None;
+        }
+        Some(Problem {
+            name: self.name.clone(),
+            robot: self.robot.clone(),
+            controller: self.controller.clone(),
+            environment: Environment {
+                obstacle_speed: o.max_speed,
+                initial_gap: x,
+            },
+        })
+    }
+
+    /// The single-obstacle parameters of obstacle `i`, as the controller and the environment
+    /// see it: W = W_i, g0 = its nearest initial x, and for a static obstacle V_a = 0 (the
+    /// danger rule counts only the robot's own braking; no observed speed exceeds it).
+    pub fn obstacle_params<N: Scalar>(&self, i: usize) -> Params<N> {
+        let o = &self.obstacles[i];
+        let mut problem = Problem {
+            name: self.name.clone(),
+            robot: self.robot.clone(),
+            controller: self.controller.clone(),
+            environment: Environment {
+                obstacle_speed: o.max_speed,
+                initial_gap: o.position.min(),
+            },
+        };
+        if o.is_static {
+            problem.controller.assumed_obstacle_speed = 0.0;
+        }
+        problem.params()
+    }
+
+    /// Indices of the obstacles in `lane`.
+    pub fn in_lane(&self, lane: i32) -> impl Iterator<Item = usize> + '_ {
+        (0..self.obstacles.len()).filter(move |&i| self.obstacles[i].lane == lane)
+    }
+
+    /// The largest speed bound of the scene's moving obstacles (0 if none move).
+    pub fn largest_moving_bound(&self) -> f64 {
+        self.obstacles
+            .iter()
+            .filter(|o| !o.is_static)
+            .map(|o| o.max_speed)
+            .fold(0.0, f64::max)
+    }
+}
