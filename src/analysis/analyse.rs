@@ -411,7 +411,7 @@ fn speeds_from_point(
 ) -> (usize, Vec<f64>) {
     let p = &dec.params;
     let m = dec.anchor(piece);
-    let n = piece.brake - p.L;
+    let n = piece.brake.saturating_sub(p.L);
     let var = &program.vars[0];
     let u = clamp(exact_float(x[0]), &var.lower.value, &var.upper.value);
     let shift = dec.shift_for(piece, &u);

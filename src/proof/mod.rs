@@ -8,5 +8,6 @@ pub mod certificate;
 pub mod check;
 pub mod premise;
 pub mod program;
+pub mod scene_schedule;
 pub mod schedule;
 pub mod verdict;

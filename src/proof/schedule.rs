@@ -86,6 +86,10 @@ pub enum Ending {
     WrongAssumption,
     /// Never brakes: the observed gap jumps from outside the area to ≤ 0 at T.
     PassThrough,
+    /// In a scene: the robot brakes at T for another reason (another obstacle fired, or
+    /// the destination) while this obstacle fired at no step before T. Only schedule rows;
+    /// the objective is this obstacle's gap when the robot rests.
+    Bystander,
 }
 
 /// One schedule piece: a set of behaviours whose worst case is one linear program.
@@ -194,6 +198,14 @@ impl Decomposition {
 
     /// As [`Decomposition::new`], from exact parameters.
     pub fn from_params(params: Params<Exact>) -> Self {
+        Self::from_params_until(params, None, true)
+    }
+
+    /// As [`Decomposition::from_params`], keeping only pieces whose brake step is at most
+    /// `limit` (in a scene, the robot has braked for another reason by then). Pieces are
+    /// merged over shifts only when `merge` allows it and the limit cuts none of them: a
+    /// merged piece stands for every later shift up to `last_brake`.
+    pub fn from_params_until(params: Params<Exact>, limit: Option<usize>, merge: bool) -> Self {
         let profile = drive_profile(&params);
         let mut d = Decomposition {
             cruise_stop: stopping(&params, params.v_max.clone()),
@@ -205,7 +217,15 @@ impl Decomposition {
             pieces: Vec::new(),
         };
         d.find_brake_range();
-        let merge_at = d.merge_step();
+        let cut = limit.filter(|&t| t.saturating_add(1) < d.last_brake);
+        if let Some(t) = cut {
+            d.last_brake = t + 1;
+        }
+        let merge_at = if cut.is_some() || !merge {
+            None
+        } else {
+            d.merge_step()
+        };
         if d.params.wrong_assumption_active() {
             d.list_in_area_pieces(merge_at);
         } else {
@@ -323,6 +343,34 @@ impl Decomposition {
         out
     }
 
+    /// The bystander pieces of brake step t (see [`Ending::Bystander`]): the robot brakes
+    /// at t while this obstacle fired at no earlier step. Without the wrong-assumption guard
+    /// one piece (o_{t−1} > θ_{t−1}); with it one per entry: not yet in the area (entry t),
+    /// entered at t−1, or at t−2 or earlier, exactly as for the pieces that fire at t.
+    pub fn bystander_pieces(&self, t: usize) -> Vec<Piece> {
+        let l = self.params.L;
+        let piece = |entry, early| Piece {
+            entry,
+            brake: t,
+            ending: Ending::Bystander,
+            merged: false,
+            early,
+        };
+        if !self.params.wrong_assumption_active() || t <= l {
+            return vec![piece(None, false)];
+        }
+        let first = self.first_brake.max(l);
+        let mut out: Vec<Piece> = self
+            .recent_entries(first, t, false)
+            .into_iter()
+            .map(|e| piece(Some(e), false))
+            .collect();
+        if self.early_entry_possible(first, t, false) {
+            out.push(piece(Some(t - 2), true));
+        }
+        out
+    }
+
     /// Whether brake step t has an early piece (entry at t−2 or before).
     fn early_entry_possible(&self, first: usize, t: usize, merged: bool) -> bool {
         let l = self.params.L;
@@ -436,12 +484,15 @@ impl Decomposition {
     pub fn program(&self, piece: &Piece) -> Program {
         let s = symbolic(&self.params);
         let m = self.anchor(piece);
-        let n = piece.brake - self.params.L;
+        // A bystander's brake step may precede the first observation (n = 0 then).
+        let n = piece.brake.saturating_sub(self.params.L);
         let mut vars = self.variables(&s, piece, m, n);
         let mut rows = Vec::new();
         self.schedule_rows(&s, piece, m, &mut vars, &mut rows);
         let g_n = self.gap(m, n, vars.len());
-        self.ending_rows(&s, piece, m, &g_n, &mut rows);
+        if piece.ending != Ending::Bystander {
+            self.ending_rows(&s, piece, m, &g_n, &mut rows);
+        }
         let (objective, constant) = if piece.has_objective() {
             // Gap at rest = g_n − (P_rest − P_n) − W·(t_rest − n·dt).
             let (t_rest, p_rest) = self.rest(piece.brake);
@@ -574,6 +625,7 @@ impl Decomposition {
                 }
             }
             Ending::PassThrough => at_most(rows, format!("o[{t}] <= 0"), g_n, zero()),
+            Ending::Bystander => {}
         }
     }
 

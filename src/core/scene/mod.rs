@@ -154,6 +154,21 @@ impl Scene {
         problem.params()
     }
 
+    /// The robot's and controller's numbers (the obstacle fields W and g0 are 0: no
+    /// obstacle is meant).
+    pub fn robot_params<N: Scalar>(&self) -> Params<N> {
+        Problem {
+            name: self.name.clone(),
+            robot: self.robot.clone(),
+            controller: self.controller.clone(),
+            environment: Environment {
+                obstacle_speed: 0.0,
+                initial_gap: 0.0,
+            },
+        }
+        .params()
+    }
+
     /// Indices of the obstacles in `lane`.
     pub fn in_lane(&self, lane: i32) -> impl Iterator<Item = usize> + '_ {
         (0..self.obstacles.len()).filter(move |&i| self.obstacles[i].lane == lane)

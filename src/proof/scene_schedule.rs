@@ -1,0 +1,224 @@
+//! Scenes without lane changes: the schedule decomposition of every obstacle in the robot's
+//! lane, composed exactly (docs/reductions.md, "Scenes").
+//!
+//! # Which obstacles count
+//! Without lane changes the robot occupies lane 0 for good. Guards consider only obstacles
+//! in the robot's lane ("relevant"), and a lane's being free is asked only when a lane
+//! change is considered, so an obstacle in another lane neither moves the robot nor counts
+//! for its safety: it is out of reach, and no piece is built for it.
+//!
+//! # Composition
+//! Before it brakes the robot drives the same profile whatever the obstacles do, and each
+//! obstacle picks its speeds independently. Alone, obstacle i would make the robot brake
+//! at its own step T_i (or pass through the area). In the scene the robot brakes at
+//! T = min(G, min_i T_i), G the destination's step. Two facts bound what matters:
+//! - an obstacle at speed 0 stays farthest out, so it is the quietest behaviour: any
+//!   behaviour that neither fires nor has passed before step T keeps the speed-0 behaviour
+//!   quiet too. So obstacle k can stay quiet through step T−1 iff T ≤ z_k, its speed-0
+//!   firing step ([`ObstacleSchedule::quiet_until`]);
+//! - the robot brakes no later than G and no later than min_k z_k over the other obstacles.
+//!
+//! For obstacle i the behaviours split into
+//! - *own* pieces: i fires (or passes through) at t ≤ T_max,i = min(G, min_{k≠i} z_k), the
+//!   others staying quiet at speed 0 — the single-obstacle pieces of i, cut at T_max,i;
+//! - *bystander* pieces at T': the robot brakes at T' for another reason while i has not
+//!   fired before T' ([`crate::proof::schedule::Ending::Bystander`]). T' is the destination's
+//!   step G when every other obstacle can stay quiet through G−1, or the step of a firing
+//!   piece of another obstacle j (the single-obstacle pieces of j are cut at T_max,j, so
+//!   the rest can stay quiet). A bystander step is needed only if one of those firing pieces
+//!   is not proved empty ([`SceneDecomposition::bystander_steps`] lists, per step, the
+//!   pieces that make it possible).
+//!
+//! Every scene behaviour falls in one of these (the obstacle whose guard fires first, or the
+//! destination, decides T; every other obstacle is a bystander at T), and every listed piece
+//! is realised by a scene behaviour (the others at speed 0, the firing one by its own piece),
+//! so s* = least optimum over the pieces, exactly.
+
+use crate::core::model::Params;
+use crate::core::num::{Exact, Scalar};
+use crate::core::rational::Rational;
+use crate::core::scene::{Position, Scene};
+use crate::core::semantics::Mode;
+use crate::core::simulate;
+use crate::proof::schedule::{Decomposition, Ending};
+
+/// The lane the robot drives in (and, without lane changes, never leaves).
+pub const ROBOT_LANE: i32 = 0;
+
+/// Why a scene is outside what the analyser decides yet.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct Unsupported(pub String);
+
+/// One obstacle of the robot's lane and its pieces.
+#[derive(Clone, Debug)]
+pub struct ObstacleSchedule {
+    /// Index of the obstacle in the scene.
+    pub obstacle: usize,
+    /// z: the step at whose start the robot, driving on, would brake for this obstacle at
+    /// speed 0 (None: at speed 0 it would pass through the area unseen by the guard). It can
+    /// stay quiet through step T−1 iff T ≤ z.
+    pub quiet_until: Option<usize>,
+    /// T_max: no piece of this obstacle brakes later (None: no limit).
+    pub limit: Option<usize>,
+    /// Its own pieces (single-obstacle schedule with its W, start and danger rule).
+    pub decomposition: Decomposition,
+}
+
+/// A step at which the robot may brake for another reason while an obstacle has not
+/// fired, and what makes it possible.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BystanderStep {
+    /// The brake step T'.
+    pub step: usize,
+    /// The destination's step is T' and every other obstacle can stay quiet until then.
+    pub by_goal: bool,
+    /// Firing pieces of other obstacles at T': (index into `obstacles`, piece index).
+    pub by_pieces: Vec<(usize, usize)>,
+}
+
+/// A scene's pieces: per obstacle of the robot's lane, its own pieces cut where the scene
+/// makes the robot brake anyway.
+#[derive(Clone, Debug)]
+pub struct SceneDecomposition {
+    /// The scene.
+    pub scene: Scene,
+    /// G: the step at whose start the destination makes the robot brake (None: no goal).
+    pub goal_step: Option<usize>,
+    /// The obstacles of the robot's lane, in scene order.
+    pub obstacles: Vec<ObstacleSchedule>,
+}
+
+impl SceneDecomposition {
+    /// Builds the pieces of a (validated) scene.
+    pub fn new(scene: &Scene) -> Result<Self, Unsupported> {
+        if scene.lane_change.is_some() {
+            return Err(Unsupported(
+                "lane changes are not analysed yet (simulate them with `safereach simulate`)"
+                    .into(),
+            ));
+        }
+        if let Some(o) = scene
+            .obstacles
+            .iter()
+            .find(|o| matches!(o.position, Position::Range(..)))
+        {
+            return Err(Unsupported(format!(
+                "obstacle \"{}\": a position range is not analysed yet; give one position",
+                o.name
+            )));
+        }
+        let lane: Vec<usize> = scene.in_lane(ROBOT_LANE).collect();
+        let params: Vec<Params<Exact>> = lane.iter().map(|&i| scene.obstacle_params(i)).collect();
+        let quiet: Vec<Option<usize>> = params.iter().map(quiet_until).collect();
+        let goal_step = scene.goal.map(|g| goal_step(&scene.robot_params(), g));
+        let obstacles = lane
+            .iter()
+            .enumerate()
+            .map(|(a, &i)| {
+                let others = (0..lane.len()).filter(|&b| b != a).filter_map(|b| quiet[b]);
+                let limit = others.chain(goal_step).min();
+                ObstacleSchedule {
+                    obstacle: i,
+                    quiet_until: quiet[a],
+                    limit,
+                    // A merged piece stands for many brake steps; another obstacle's
+                    // bystander steps need each firing step on its own.
+                    decomposition: Decomposition::from_params_until(
+                        params[a].clone(),
+                        limit,
+                        lane.len() == 1,
+                    ),
+                }
+            })
+            .collect();
+        Ok(SceneDecomposition {
+            scene: scene.clone(),
+            goal_step,
+            obstacles,
+        })
+    }
+
+    /// The steps at which obstacle `a` (index into `obstacles`) may be a bystander, each
+    /// with what makes it possible, ascending.
+    pub fn bystander_steps(&self, a: usize) -> Vec<BystanderStep> {
+        let mut steps: Vec<BystanderStep> = Vec::new();
+        if let Some(g) = self.goal_step {
+            let others_quiet = self
+                .obstacles
+                .iter()
+                .enumerate()
+                .all(|(b, o)| b == a || o.quiet_until.is_none_or(|z| g <= z));
+            if others_quiet {
+                step_entry(&mut steps, g).by_goal = true;
+            }
+        }
+        for (b, o) in self.obstacles.iter().enumerate() {
+            if b == a {
+                continue;
+            }
+            for (p, piece) in o.decomposition.pieces.iter().enumerate() {
+                if matches!(piece.ending, Ending::Danger | Ending::WrongAssumption) {
+                    step_entry(&mut steps, piece.brake).by_pieces.push((b, p));
+                }
+            }
+        }
+        steps
+    }
+
+    /// Whether some obstacle's firing pieces are merged over shifts (only when it is alone
+    /// in the lane and there is no destination: then no bystander steps exist).
+    pub fn single(&self) -> bool {
+        self.obstacles.len() == 1 && self.goal_step.is_none()
+    }
+}
+
+/// The entry of `step` in the ascending list, inserted empty if missing.
+fn step_entry(steps: &mut Vec<BystanderStep>, step: usize) -> &mut BystanderStep {
+    let pos = match steps.binary_search_by_key(&step, |s| s.step) {
+        Ok(p) => p,
+        Err(p) => {
+            steps.insert(
+                p,
+                BystanderStep {
+                    step,
+                    by_goal: false,
+                    by_pieces: Vec::new(),
+                },
+            );
+            p
+        }
+    };
+    &mut steps[pos]
+}
+
+/// z for one obstacle: its speed-0 behaviour run through the step function until the robot
+/// brakes (None: it passes through unbraked).
+fn quiet_until(params: &Params<Exact>) -> Option<usize> {
+    let p: Params<Rational> = params.map(Rational::from_exact);
+    let steps = simulate::horizon(&params.map(|x| x.to_f64().value()));
+    let run = simulate::run(p, |_| Rational::zero(), steps, true);
+    run.outcome.brake.map(|(k, _)| k)
+}
+
+/// G: the first step at whose start the robot, driving on, has x + v²/(2b) ≥ goal.
+fn goal_step(params: &Params<Exact>, goal: f64) -> usize {
+    let p: Params<Rational> = params.map(Rational::from_exact);
+    let goal = Rational::from_exact(&<Exact as Scalar>::decimal(goal));
+    let two_b = Rational::int(2) * p.b.clone();
+    let mut state = crate::core::semantics::RobotState {
+        position: Rational::zero(),
+        speed: Rational::zero(),
+        mode: Mode::Accelerate,
+    };
+    let mut k = 0;
+    loop {
+        let reach =
+            state.position.clone() + state.speed.clone() * state.speed.clone() / two_b.clone();
+        if reach >= goal {
+            return k;
+        }
+        state = crate::core::semantics::robot_motion(&p, &state).end;
+        k += 1;
+    }
+}
