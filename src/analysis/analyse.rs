@@ -264,7 +264,10 @@ fn least_bound(outcomes: &[PieceOutcome], params: &Params<Exact>) -> (Option<Exa
 /// solution although its closure has: the solver's Farkas multipliers for the system with
 /// strict rows a margin inside, snapped to nearby simple fractions, must give a bound ≥ 0
 /// with weight on a strict row ([`Program::proves_empty`]).
-fn prove_strictly_empty(program: &Program, solved: &mut usize) -> Option<(Vec<f64>, Exact)> {
+pub(crate) fn prove_strictly_empty(
+    program: &Program,
+    solved: &mut usize,
+) -> Option<(Vec<f64>, Exact)> {
     *solved += 1;
     let LpOutcome::Infeasible { z } = lp::solve(program, WITNESS_MARGIN) else {
         return None;
@@ -300,7 +303,7 @@ fn snap(x: f64) -> f64 {
 }
 
 /// Finds a proof for one piece: cheap Farkas candidates first, then Clarabel.
-fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
+pub(crate) fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> PieceResult {
     let rows = program.rows.len();
     let mut farkas_candidates = Vec::new();
     if let Some(i) = program.infeasible_row() {
@@ -403,7 +406,7 @@ fn clamp(x: Exact, lo: &Exact, hi: &Exact) -> Exact {
 }
 
 /// The full obstacle speed sequence for a solution point of a piece's program.
-fn speeds_from_point(
+pub(crate) fn speeds_from_point(
     dec: &Decomposition,
     piece: &Piece,
     program: &Program,

@@ -7,6 +7,7 @@ pub mod lp;
 mod monte_carlo;
 pub mod radius;
 pub mod report;
+pub mod scene;
 pub mod sweep;
 
 pub use analyse::*;

@@ -18,5 +18,6 @@ mod fixtures;
 mod monitor;
 mod monitor_cli;
 mod radius;
+mod scene_analysis;
 mod sweep;
 mod uppaal;
