@@ -199,6 +199,8 @@ pub enum BrakeReason {
     CollisionDanger,
     /// Obstacle in the area seen faster than V_a.
     WrongAssumption,
+    /// The robot's stopping point reached its goal (scenes only: `nearDestination`).
+    Destination,
 }
 
 /// The controller's guard: whether, with its own speed `v` and observation `obs`, the robot

@@ -6,10 +6,28 @@
 //! and a scene that is exactly that gives it back ([`Scene::as_problem`]), so old files
 //! keep their answers and certificates.
 
+//!
+//! Running a scene: [`Scene::params`] gives its numbers ([`SceneParams`]), [`SceneWorld`] is
+//! its step function (guards in [`guards`], lanes in [`lateral`], per-obstacle safety in
+//! [`safety`]), and [`simulate`] runs, replays and traces it.
+
 use serde::{Deserialize, Serialize};
 
 use crate::core::model::{Controller, Environment, Params, Problem, Robot};
 use crate::core::num::Scalar;
+
+pub mod guards;
+pub mod lateral;
+mod params;
+#[cfg(test)]
+mod run_tests;
+pub mod safety;
+pub mod simulate;
+mod world;
+
+pub use lateral::{LaneChangeEvent, Lateral};
+pub use params::{LaneChangeParams, ObstacleParams, SceneParams};
+pub use world::{ObstacleStep, SceneStepRecord, SceneWorld};
 
 /// A scene: one robot, its controller, the lanes and every obstacle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
