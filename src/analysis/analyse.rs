@@ -505,7 +505,7 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
 pub const SPEED_QUANTUM: f64 = 1.0 / (1u64 << 30) as f64;
 
 /// The largest multiple of [`SPEED_QUANTUM`] not above `x` (x ≥ 0).
-fn quantised(x: &Exact) -> f64 {
+pub(crate) fn quantised(x: &Exact) -> f64 {
     let scale = Exact::from(1u64 << 30);
     let steps = (x.clone() * scale.clone()).floor();
     f64_at_most(&(Exact::from(steps) / scale))

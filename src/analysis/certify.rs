@@ -2,31 +2,36 @@
 //! premises, sealed with the digest. (The certificate format and its check live in
 //! [`crate::proof`], which never depends on the analyser.)
 
-use crate::analysis::{Analysis, PieceResult};
+use crate::analysis::scene::SceneAnalysis;
+use crate::analysis::{Analysis, PieceOutcome, PieceResult};
 use crate::core::num::f64_at_most;
 use crate::proof::certificate::{Certificate, FORMAT, Proof, premises};
+use crate::proof::scene_certificate::{
+    ObstacleProofs, SCENE_FORMAT, SceneCertificate, scene_premises,
+};
+
+/// The proof written for one piece's outcome.
+fn proof(o: &PieceOutcome) -> Proof {
+    match &o.result {
+        PieceResult::Proved { kind, z, bound, .. } => Proof {
+            piece: o.piece,
+            kind: Some(kind.clone()),
+            multipliers: z.clone(),
+            bound: Some(f64_at_most(bound)),
+        },
+        PieceResult::Unproved { .. } => Proof {
+            piece: o.piece,
+            kind: None,
+            multipliers: Vec::new(),
+            bound: None,
+        },
+    }
+}
 
 impl Certificate {
     /// The certificate of an analysis.
     pub fn from_analysis(a: &Analysis) -> Self {
-        let proofs = a
-            .outcomes
-            .iter()
-            .map(|o| match &o.result {
-                PieceResult::Proved { kind, z, bound, .. } => Proof {
-                    piece: o.piece,
-                    kind: Some(kind.clone()),
-                    multipliers: z.clone(),
-                    bound: Some(f64_at_most(bound)),
-                },
-                PieceResult::Unproved { .. } => Proof {
-                    piece: o.piece,
-                    kind: None,
-                    multipliers: Vec::new(),
-                    bound: None,
-                },
-            })
-            .collect();
+        let proofs = a.outcomes.iter().map(proof).collect();
         let mut cert = Certificate {
             format: FORMAT.into(),
             verdict: a.verdict,
@@ -40,6 +45,40 @@ impl Certificate {
             pieces: a.outcomes.len(),
             programs_solved: a.programs_solved,
             proofs,
+            digest: String::new(),
+        };
+        cert.digest = cert.compute_digest();
+        cert
+    }
+}
+
+impl SceneCertificate {
+    /// The certificate of a scene analysis.
+    pub fn from_analysis(a: &SceneAnalysis) -> Self {
+        let obstacles = a
+            .obstacles
+            .iter()
+            .map(|o| ObstacleProofs {
+                obstacle: o.obstacle,
+                name: a.scene.obstacles[o.obstacle].name.clone(),
+                lower_bound: o.lower_bound.as_ref().map(f64_at_most),
+                min_separation: o.min_separation,
+                own: o.own.iter().map(proof).collect(),
+                bystanders: o.bystanders.iter().map(proof).collect(),
+            })
+            .collect();
+        let mut cert = SceneCertificate {
+            format: SCENE_FORMAT.into(),
+            verdict: a.verdict,
+            min_separation: a.min_separation,
+            never_stops: a.never_stops,
+            lower_bound: a.lower_bound.as_ref().map(f64_at_most),
+            clearance: a.scene.robot.clearance,
+            premises: scene_premises(&a.scene),
+            witness: a.witness.clone(),
+            scene: a.scene.clone(),
+            obstacles,
+            programs_solved: a.programs_solved,
             digest: String::new(),
         };
         cert.digest = cert.compute_digest();

@@ -8,6 +8,7 @@ mod monte_carlo;
 pub mod radius;
 pub mod report;
 pub mod scene;
+mod scene_witness;
 pub mod sweep;
 
 pub use analyse::*;

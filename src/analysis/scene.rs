@@ -6,9 +6,12 @@
 //! not proved empty can make the robot brake then (docs/reductions.md, "Scenes").
 
 use crate::analysis::analyse::{PieceOutcome, PieceResult, Verdict, prove};
+use crate::analysis::scene_witness::realise;
 use crate::core::num::Exact;
 use crate::core::scene::Scene;
 use crate::proof::program::{Program, ProofKind};
+use crate::proof::scene_certificate::SceneWitness;
+use crate::proof::scene_check::least_start;
 use crate::proof::scene_schedule::{SceneDecomposition, Unsupported};
 use crate::proof::schedule::Piece;
 
@@ -54,6 +57,8 @@ pub struct SceneAnalysis {
     pub never_stops: bool,
     /// The worst case: index into `obstacles` and the piece.
     pub worst: Option<(usize, Piece)>,
+    /// The worst-case behaviour, replayed exactly through the scene's step function.
+    pub witness: Option<SceneWitness>,
     /// The verdict.
     pub verdict: Verdict,
     /// Linear programs handed to Clarabel.
@@ -67,6 +72,10 @@ pub enum SceneAnalysisError {
     /// The scene uses something the analyser does not decide yet.
     #[error("not analysed: {0}")]
     Unsupported(#[from] Unsupported),
+    /// The engines disagree: a certified bound and a colliding witness. A bug, reported
+    /// rather than resolved either way.
+    #[error("internal inconsistency: {0}")]
+    Inconsistent(String),
 }
 
 /// Analyses a (validated) scene.
@@ -104,7 +113,12 @@ pub fn analyse_scene(scene: &Scene) -> Result<SceneAnalysis, SceneAnalysisError>
     let mut never_stops = false;
     let mut worst = None;
     for (a, o) in obstacles.iter_mut().enumerate() {
-        let (unproved, bound, optimum, passes) = summarise(o.outcomes());
+        let Summary {
+            unproved,
+            bound,
+            optimum,
+            passes,
+        } = summarise(o.outcomes());
         o.lower_bound = if unproved { None } else { bound.clone() };
         o.min_separation = optimum.map(|(v, _)| v);
         lower_bound = match (lower_bound, bound) {
@@ -130,9 +144,28 @@ pub fn analyse_scene(scene: &Scene) -> Result<SceneAnalysis, SceneAnalysisError>
         min_separation = None;
     }
     let clearance = dec.scene.robot_params::<Exact>().clearance;
-    let verdict = match &lower_bound {
-        Some(l) if *l > clearance => Verdict::Certified,
-        _ => Verdict::Inconclusive,
+    let certified = lower_bound.as_ref().is_some_and(|l| *l > clearance);
+    let witness = realise(&dec, &obstacles, &mut solved);
+    let collides = witness.as_ref().is_some_and(|(w, _)| w.collides);
+    if certified && collides {
+        return Err(SceneAnalysisError::Inconsistent(
+            "a certified bound above the clearance and a colliding witness".into(),
+        ));
+    }
+    match &witness {
+        // s* is the optimum of the piece whose witness realised it (as for one obstacle).
+        Some((w, value)) if w.piece.has_objective() => min_separation = Some(*value),
+        Some(_) => {}
+        None if !never_stops => min_separation = None,
+        None => {}
+    }
+    let witness = witness.map(|(w, _)| w);
+    let verdict = if certified {
+        Verdict::Certified
+    } else if collides {
+        Verdict::Refuted
+    } else {
+        Verdict::Inconclusive
     };
     Ok(SceneAnalysis {
         scene: scene.clone(),
@@ -142,6 +175,7 @@ pub fn analyse_scene(scene: &Scene) -> Result<SceneAnalysis, SceneAnalysisError>
         min_separation,
         never_stops,
         worst,
+        witness,
         verdict,
         programs_solved: solved,
     })
@@ -165,7 +199,7 @@ fn prove_all(
         .collect()
 }
 
-fn proved_empty(r: &PieceResult) -> bool {
+pub(crate) fn proved_empty(r: &PieceResult) -> bool {
     matches!(
         r,
         PieceResult::Proved {
@@ -175,11 +209,19 @@ fn proved_empty(r: &PieceResult) -> bool {
     )
 }
 
-/// Whether some piece of an obstacle is unproved, its least proved bound (None: no piece
-/// has one), its least optimum with the piece, and a feasible pass-through piece.
-fn summarise<'a>(
-    outcomes: impl Iterator<Item = &'a PieceOutcome>,
-) -> (bool, Option<Exact>, Option<(f64, Piece)>, Option<Piece>) {
+/// What one obstacle's outcomes add up to.
+struct Summary {
+    /// Some piece is unproved.
+    unproved: bool,
+    /// The least proved bound (None: no piece has one).
+    bound: Option<Exact>,
+    /// The least optimum, with its piece.
+    optimum: Option<(f64, Piece)>,
+    /// A feasible pass-through piece.
+    passes: Option<Piece>,
+}
+
+fn summarise<'a>(outcomes: impl Iterator<Item = &'a PieceOutcome>) -> Summary {
     let mut bound: Option<Exact> = None;
     let mut unproved = false;
     let mut optimum: Option<(f64, Piece)> = None;
@@ -210,17 +252,10 @@ fn summarise<'a>(
             }
         }
     }
-    (unproved, bound, optimum, passes)
-}
-
-/// The nearest start of an obstacle in the robot's lane, the bound reported when no piece
-/// has one (as for a single obstacle: then no behaviour brings the robot near any of
-/// them, and s* is +∞); 1 m when the lane has none.
-fn least_start(dec: &SceneDecomposition) -> Exact {
-    use crate::core::num::Scalar;
-    dec.obstacles
-        .iter()
-        .map(|o| <Exact as Scalar>::decimal(dec.scene.obstacles[o.obstacle].position.min()))
-        .min()
-        .unwrap_or(Exact::ONE)
+    Summary {
+        unproved,
+        bound,
+        optimum,
+        passes,
+    }
 }

@@ -110,7 +110,7 @@ fn check_proofs(cert: &Certificate, dec: &Decomposition) -> Result<Option<Exact>
 
 /// One proof: its bound recomputed exactly and equal to the stated one, an infeasibility
 /// proof really proving the piece empty. None for a piece stated as unproved.
-fn check_proof(
+pub(crate) fn check_proof(
     i: usize,
     proof: &Proof,
     piece: &Piece,

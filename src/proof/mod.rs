@@ -8,6 +8,8 @@ pub mod certificate;
 pub mod check;
 pub mod premise;
 pub mod program;
+pub mod scene_certificate;
+pub mod scene_check;
 pub mod scene_schedule;
 pub mod schedule;
 pub mod verdict;

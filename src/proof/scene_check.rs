@@ -1,0 +1,309 @@
+//! `check` for scene certificates: every proof re-verified from the scene alone, in exact
+//! rationals, without the solver.
+//!
+//! 1. the format tag and digest; the scene must be valid and one the analyser decides;
+//! 2. per obstacle of the robot's lane, the own pieces are rebuilt from the scene and the
+//!    proofs must list exactly them, in order; each bound is recomputed exactly;
+//! 3. the bystander pieces are rebuilt too: a bystander step is required unless every
+//!    firing piece of another obstacle at that step carries a verified emptiness proof and
+//!    the destination does not brake then — so a certificate cannot leave out a case by
+//!    claiming a firing piece empty without proving it;
+//! 4. the witness's speeds are replayed exactly through the scene's step function and must
+//!    reproduce its trace, collision and separation;
+//! 5. the verdict must follow.
+
+use crate::core::num::{Exact, Scalar, exact_decimal, exact_float, f64_at_most};
+use crate::core::scene::simulate;
+use crate::proof::check::{CheckReport, Invalid, check_proof};
+use crate::proof::program::ProofKind;
+use crate::proof::scene_certificate::{
+    ObstacleProofs, SCENE_FORMAT, SceneCertificate, SceneWitness, scene_premises,
+};
+use crate::proof::scene_schedule::SceneDecomposition;
+use crate::proof::schedule::Piece;
+use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict};
+
+fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
+    Err(Invalid(msg.into()))
+}
+
+/// Re-verifies a scene certificate without the solver.
+pub fn check_scene(cert: &SceneCertificate) -> Result<CheckReport, Invalid> {
+    if cert.format != SCENE_FORMAT {
+        return invalid(format!(
+            "format is {:?}, expected {SCENE_FORMAT:?}",
+            cert.format
+        ));
+    }
+    if cert.compute_digest() != cert.digest {
+        return invalid("digest mismatch: the certificate was edited after it was written");
+    }
+    for (i, o) in cert.scene.obstacles.iter().enumerate() {
+        let problem = crate::core::model::Problem {
+            name: cert.scene.name.clone(),
+            robot: cert.scene.robot.clone(),
+            controller: cert.scene.controller.clone(),
+            environment: crate::core::model::Environment {
+                obstacle_speed: o.max_speed,
+                initial_gap: o.position.min(),
+            },
+        };
+        problem
+            .validate(&format!("certificate scene, obstacle {i} ({:?})", o.name))
+            .map_err(|e| Invalid(format!("the certificate's scene is invalid: {e}")))?;
+    }
+    let dec = SceneDecomposition::new(&cert.scene)
+        .map_err(|e| Invalid(format!("the certificate's scene is not analysable: {e}")))?;
+    if cert.obstacles.len() != dec.obstacles.len() {
+        return invalid(format!(
+            "the robot's lane has {} obstacles; the certificate has proofs for {}",
+            dec.obstacles.len(),
+            cert.obstacles.len()
+        ));
+    }
+    let mut empty: Vec<Vec<bool>> = Vec::new();
+    let mut lower: Option<Exact> = None;
+    let mut all_proved = true;
+    let mut pieces = 0;
+    for (a, proofs) in cert.obstacles.iter().enumerate() {
+        let o = &dec.obstacles[a];
+        let name = &cert.scene.obstacles[o.obstacle].name;
+        if proofs.obstacle != o.obstacle || proofs.name != *name {
+            return invalid(format!(
+                "proofs {a} are for obstacle {} ({:?}); the lane's obstacle {a} is {} ({name:?})",
+                proofs.obstacle, proofs.name, o.obstacle
+            ));
+        }
+        let results = check_list(name, "own", &proofs.own, &o.decomposition.pieces, &dec, a)?;
+        pieces += results.len();
+        empty.push(
+            results
+                .iter()
+                .map(|r| matches!(r, Some((ProofKind::Infeasible, _))))
+                .collect(),
+        );
+        fold(&results, &mut lower, &mut all_proved);
+    }
+    for (a, proofs) in cert.obstacles.iter().enumerate() {
+        let name = &cert.scene.obstacles[dec.obstacles[a].obstacle].name;
+        let needed = required_bystanders(&dec, a, &empty);
+        let results = check_list(name, "bystander", &proofs.bystanders, &needed, &dec, a)?;
+        pieces += results.len();
+        fold(&results, &mut lower, &mut all_proved);
+        check_obstacle_bound(name, proofs)?;
+    }
+    let lower = all_proved.then(|| lower.unwrap_or_else(|| least_start(&dec)));
+    check_claims(cert, lower.as_ref())?;
+    let collides = match &cert.witness {
+        None if cert.min_separation.is_some() || cert.never_stops => {
+            return invalid("min_separation or never_stops is stated without a witness behind it");
+        }
+        None => false,
+        Some(w) => check_witness(cert, w)?,
+    };
+    let certified = lower
+        .as_ref()
+        .is_some_and(|l| *l > exact_decimal(cert.scene.robot.clearance));
+    let verdict = match (certified, collides) {
+        (true, true) => return invalid("the proofs certify, yet the witness collides"),
+        (true, false) => Verdict::Certified,
+        (false, true) => Verdict::Refuted,
+        (false, false) => Verdict::Inconclusive,
+    };
+    if verdict != cert.verdict {
+        return invalid(format!(
+            "stated verdict {} does not follow; the evidence gives {}",
+            cert.verdict.as_str(),
+            verdict.as_str()
+        ));
+    }
+    Ok(CheckReport {
+        verdict,
+        pieces,
+        lower_bound: lower,
+    })
+}
+
+type Checked = Option<(ProofKind, Exact)>;
+
+/// The bystander pieces obstacle `a` must have proofs for, given which own pieces of every
+/// obstacle are proved empty.
+fn required_bystanders(dec: &SceneDecomposition, a: usize, empty: &[Vec<bool>]) -> Vec<Piece> {
+    let mut out = Vec::new();
+    for step in dec.bystander_steps(a) {
+        let possible = step.by_goal || step.by_pieces.iter().any(|&(b, p)| !empty[b][p]);
+        if possible {
+            out.extend(dec.obstacles[a].decomposition.bystander_pieces(step.step));
+        }
+    }
+    out
+}
+
+/// One list of proofs against the pieces rebuilt from the scene.
+fn check_list(
+    name: &str,
+    what: &str,
+    proofs: &[crate::proof::certificate::Proof],
+    pieces: &[Piece],
+    dec: &SceneDecomposition,
+    a: usize,
+) -> Result<Vec<Checked>, Invalid> {
+    if proofs.len() != pieces.len() {
+        return invalid(format!(
+            "obstacle {name:?} has {} {what} pieces; the certificate lists {} proofs",
+            pieces.len(),
+            proofs.len()
+        ));
+    }
+    let d = &dec.obstacles[a].decomposition;
+    proofs
+        .iter()
+        .zip(pieces)
+        .enumerate()
+        .map(|(i, (proof, piece))| {
+            if proof.piece != *piece {
+                return invalid(format!(
+                    "obstacle {name:?}: {what} proof {i} is for {:?}, but the piece is {piece:?}",
+                    proof.piece
+                ));
+            }
+            check_proof(i, proof, piece, d)
+                .map_err(|e| Invalid(format!("obstacle {name:?}, {what}: {}", e.0)))
+        })
+        .collect()
+}
+
+fn fold(results: &[Checked], lower: &mut Option<Exact>, all_proved: &mut bool) {
+    for r in results {
+        match r {
+            None => *all_proved = false,
+            Some((ProofKind::Bound, b)) if lower.as_ref().is_none_or(|l| b < l) => {
+                *lower = Some(b.clone());
+            }
+            Some(_) => {}
+        }
+    }
+}
+
+/// An obstacle's stated lower bound must be what its own and bystander proofs give.
+fn check_obstacle_bound(name: &str, proofs: &ObstacleProofs) -> Result<(), Invalid> {
+    let stated = proofs.lower_bound;
+    let bounds = proofs
+        .own
+        .iter()
+        .chain(&proofs.bystanders)
+        .filter(|p| p.kind == Some(ProofKind::Bound))
+        .filter_map(|p| p.bound);
+    let unproved = proofs
+        .own
+        .iter()
+        .chain(&proofs.bystanders)
+        .any(|p| p.kind.is_none());
+    let least = bounds.fold(None, |m: Option<f64>, b| Some(m.map_or(b, |m| m.min(b))));
+    let expected = if unproved { None } else { least };
+    if stated != expected {
+        return invalid(format!(
+            "obstacle {name:?}: stated lower bound {stated:?}, its proofs give {expected:?}"
+        ));
+    }
+    Ok(())
+}
+
+/// The nearest start of an obstacle in the robot's lane (the bound when no piece has one).
+pub fn least_start(dec: &SceneDecomposition) -> Exact {
+    dec.obstacles
+        .iter()
+        .map(|o| <Exact as Scalar>::decimal(dec.scene.obstacles[o.obstacle].position.min()))
+        .min()
+        .unwrap_or(Exact::ONE)
+}
+
+fn check_claims(cert: &SceneCertificate, lower: Option<&Exact>) -> Result<(), Invalid> {
+    if cert.lower_bound != lower.map(f64_at_most) {
+        return invalid(format!(
+            "stated lower bound {:?}, proofs give {:?}",
+            cert.lower_bound,
+            lower.map(f64_at_most)
+        ));
+    }
+    if cert.clearance != cert.scene.robot.clearance {
+        return invalid("clearance differs from the scene's");
+    }
+    if cert.premises != scene_premises(&cert.scene) {
+        return invalid("premises differ from the scene's");
+    }
+    Ok(())
+}
+
+/// Replays a scene witness exactly; returns whether it collides.
+fn check_witness(cert: &SceneCertificate, w: &SceneWitness) -> Result<bool, Invalid> {
+    let scene = &cert.scene;
+    let params = scene.params::<Exact>();
+    if w.obstacle_speeds.len() != scene.obstacles.len() {
+        return invalid("witness lists speeds for another number of obstacles");
+    }
+    if w.obstacle >= scene.obstacles.len() || w.lane != scene.obstacles[w.obstacle].lane {
+        return invalid("witness names an obstacle or lane the scene does not have");
+    }
+    for (i, speeds) in w.obstacle_speeds.iter().enumerate() {
+        let bound = &params.obstacles[i].max_speed;
+        if let Some(k) = speeds
+            .iter()
+            .position(|&s| s.is_nan() || s < 0.0 || exact_float(s) > *bound)
+        {
+            return invalid(format!(
+                "witness speed of obstacle {:?} in period {k} is outside [0, W]",
+                scene.obstacles[i].name
+            ));
+        }
+    }
+    let periods = w.obstacle_speeds.iter().map(Vec::len).max().unwrap_or(0);
+    let starts: Vec<Exact> = params
+        .obstacles
+        .iter()
+        .map(|o| o.start_min.clone())
+        .collect();
+    let replay = simulate::replay(&params, &w.obstacle_speeds, &starts, periods, false);
+    if replay.periods() != periods {
+        return invalid("witness lists speeds past the end of its run");
+    }
+    let steps = replay.trace();
+    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
+    let same = steps.len() == w.steps.len()
+        && steps.iter().zip(&w.steps).all(|(x, y)| {
+            let (a, b) = (&x.row, &y.row);
+            x.obstacle == y.obstacle
+                && x.robot_lane == y.robot_lane
+                && x.obstacle_lane == y.obstacle_lane
+                && a.robot_mode == b.robot_mode
+                && close(a.t, b.t)
+                && close(a.robot_position, b.robot_position)
+                && close(a.robot_speed, b.robot_speed)
+                && close(a.obstacle_position, b.obstacle_position)
+                && close(a.obstacle_speed, b.obstacle_speed)
+                && close(a.gap, b.gap)
+        });
+    if !same {
+        return invalid("witness trace differs from its exact replay");
+    }
+    if replay.collided() != w.collides {
+        return invalid("witness collision flag differs from its exact replay");
+    }
+    let sep = replay.separations()[w.obstacle].as_ref().map(f64_at_most);
+    if sep != w.separation {
+        return invalid("witness separation differs from its exact replay");
+    }
+    match (cert.min_separation, w.separation) {
+        (Some(s), Some(r)) if !(r >= s - REPLAY_TOLERANCE && r - s <= REPLAY_TOLERANCE) => {
+            return invalid("min_separation is not reproduced by the witness");
+        }
+        (Some(s), _) if cert.lower_bound.is_some_and(|l| s < l - REPLAY_TOLERANCE) => {
+            return invalid("min_separation lies below the proved lower bound");
+        }
+        _ => {}
+    }
+    if cert.never_stops && !w.collides {
+        return invalid("never_stops requires a witness that collides");
+    }
+    Ok(replay.collided())
+}
