@@ -18,5 +18,6 @@ mod fixtures;
 mod monitor;
 mod monitor_cli;
 mod radius;
+mod scene_input;
 mod sweep;
 mod uppaal;
