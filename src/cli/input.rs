@@ -1,18 +1,29 @@
-//! What commands read: problem files with `--set` overrides, and certificates. One loader
-//! and one reader, so every command names the file (and the key, and the reason) the same
-//! way when the input is bad, and exits 2.
+//! What commands read: problem and scene files with `--set` overrides, and certificates. One
+//! loader each, so every command names the file (and the key, and the reason) the same way
+//! when the input is bad, and exits 2.
 
 use std::path::Path;
 
 use anyhow::{Context, Result};
 
 use safereach::core::model::Problem;
+use safereach::core::scene::Scene;
 use safereach::proof::certificate::Certificate;
 
 /// Reads the problem file at `path` and applies `sets` (`dotted.key=value`, in order). The
 /// error names the file, or the override, the key and the reason.
 pub fn problem(path: &Path, sets: &[String]) -> Result<Problem> {
     Ok(Problem::load_with_overrides(path, sets)?)
+}
+
+/// Reads the scene file at `path` (or a problem file, as its one-obstacle scene) and applies
+/// `sets` (`dotted.key=value`, in order; an obstacle's keys as `obstacle.<index>.<key>`). The
+/// error names the file, or the override, the key (an obstacle's by index and name) and the
+/// reason.
+// No subcommand reads scenes yet; they move over one by one.
+#[allow(dead_code)]
+pub fn scene(path: &Path, sets: &[String]) -> Result<Scene> {
+    Ok(Scene::load_with_overrides(path, sets)?)
 }
 
 /// How an unreadable certificate file is named in the error. `check` and

@@ -5,6 +5,7 @@
 //! from the problem alone and recomputing every bound in exact rationals.
 
 pub mod certificate;
+pub mod certificate_file;
 pub mod check;
 pub mod premise;
 pub mod program;

@@ -38,20 +38,9 @@ pub fn check_scene(cert: &SceneCertificate) -> Result<CheckReport, Invalid> {
     if cert.compute_digest() != cert.digest {
         return invalid("digest mismatch: the certificate was edited after it was written");
     }
-    for (i, o) in cert.scene.obstacles.iter().enumerate() {
-        let problem = crate::core::model::Problem {
-            name: cert.scene.name.clone(),
-            robot: cert.scene.robot.clone(),
-            controller: cert.scene.controller.clone(),
-            environment: crate::core::model::Environment {
-                obstacle_speed: o.max_speed,
-                initial_gap: o.position.min(),
-            },
-        };
-        problem
-            .validate(&format!("certificate scene, obstacle {i} ({:?})", o.name))
-            .map_err(|e| Invalid(format!("the certificate's scene is invalid: {e}")))?;
-    }
+    cert.scene
+        .validate("certificate scene")
+        .map_err(|e| Invalid(format!("the certificate's scene is invalid: {e}")))?;
     let dec = SceneDecomposition::new(&cert.scene)
         .map_err(|e| Invalid(format!("the certificate's scene is not analysable: {e}")))?;
     if cert.obstacles.len() != dec.obstacles.len() {

@@ -19,5 +19,6 @@ mod monitor;
 mod monitor_cli;
 mod radius;
 mod scene_analysis;
+mod scene_input;
 mod sweep;
 mod uppaal;

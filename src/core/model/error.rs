@@ -18,7 +18,7 @@ pub struct Location {
 
 impl Location {
     /// The location of the byte range `span` of `text`, if it lies inside `text`.
-    pub(super) fn of_span(text: &str, span: Range<usize>) -> Option<Location> {
+    pub(crate) fn of_span(text: &str, span: Range<usize>) -> Option<Location> {
         let before = text.get(..span.start)?;
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
         let line_end = text[span.start..]
@@ -40,7 +40,7 @@ impl Location {
 }
 
 /// Renders `location` as a rustc-style pointer under the one-line message.
-pub(super) fn show_location(origin: &str, location: &Option<Box<Location>>) -> String {
+pub(crate) fn show_location(origin: &str, location: &Option<Box<Location>>) -> String {
     let Some(l) = location else {
         return String::new();
     };
@@ -57,11 +57,11 @@ pub(super) fn show_location(origin: &str, location: &Option<Box<Location>>) -> S
 }
 
 /// Renders the known keys of an unknown `--set` key's table.
-pub(super) fn show_known(known: &[String]) -> String {
+pub(crate) fn show_known(known: &[String]) -> String {
     known.join(", ")
 }
 
-/// Why a problem could not be read or is not a valid problem.
+/// Why a problem (or a scene) could not be read or is not a valid problem (or scene).
 ///
 /// Every variant names its origin: the file's path, the text's origin given to
 /// [`Problem::from_toml_str`](crate::core::model::Problem::from_toml_str), or the offending `--set key=value`. The first line of the
@@ -105,6 +105,20 @@ pub enum ProblemError {
         /// Where the value sits in the file, when it comes from one.
         location: Option<Box<Location>>,
     },
+    /// A key where the file's shape has none, or a key or table it lacks or cannot combine
+    /// (scene files: an unknown key in an obstacle, a missing lane-change setting, an
+    /// `[environment]` beside `[[obstacle]]`).
+    #[error("{origin}: {key}: {reason}{}", show_location(.origin, .location))]
+    Shape {
+        /// The file, or the `--set key=value` that made the shape.
+        origin: String,
+        /// The key, in the user's terms (`obstacle[1] ("parked").colour`).
+        key: String,
+        /// What is wrong, and what would be right.
+        reason: String,
+        /// Where the key sits in the file, when it comes from one.
+        location: Option<Box<Location>>,
+    },
     /// A `--set` key that no problem has.
     #[error("{origin}: unknown key `{key}`; known keys{}: {}",
         .table.as_ref().map(|t| format!(" of [{t}]")).unwrap_or_default(), show_known(.known))]
@@ -138,6 +152,7 @@ impl ProblemError {
             ProblemError::Read { origin, .. }
             | ProblemError::Parse { origin, .. }
             | ProblemError::Invalid { origin, .. }
+            | ProblemError::Shape { origin, .. }
             | ProblemError::UnknownKey { origin, .. }
             | ProblemError::BadOverride { origin, .. } => origin,
         }
@@ -150,7 +165,9 @@ impl ProblemError {
             ProblemError::Parse { key, .. } | ProblemError::BadOverride { key, .. } => {
                 key.as_deref()
             }
-            ProblemError::Invalid { key, .. } | ProblemError::UnknownKey { key, .. } => Some(key),
+            ProblemError::Invalid { key, .. }
+            | ProblemError::Shape { key, .. }
+            | ProblemError::UnknownKey { key, .. } => Some(key),
         }
     }
 
@@ -158,21 +175,23 @@ impl ProblemError {
     pub fn line(&self) -> Option<usize> {
         match self {
             ProblemError::Parse { line, .. } => *line,
-            ProblemError::Invalid { location, .. } => location.as_ref().map(|l| l.line),
+            ProblemError::Invalid { location, .. } | ProblemError::Shape { location, .. } => {
+                location.as_ref().map(|l| l.line)
+            }
             _ => None,
         }
     }
 }
 
 /// A rule of the model a problem breaks.
-pub(super) struct Violation {
-    pub(super) key: &'static str,
-    pub(super) value: String,
-    pub(super) reason: String,
+pub(crate) struct Violation {
+    pub(crate) key: &'static str,
+    pub(crate) value: String,
+    pub(crate) reason: String,
 }
 
 /// A number as shown in messages: plain when moderate, in exponent form when huge or tiny.
-pub(super) fn show_number(x: f64) -> String {
+pub(crate) fn show_number(x: f64) -> String {
     let a = x.abs();
     if a.is_finite() && a != 0.0 && !(1e-6..1e9).contains(&a) {
         format!("{x:e}")
@@ -182,7 +201,7 @@ pub(super) fn show_number(x: f64) -> String {
 }
 
 /// A large count of control periods as shown in messages.
-pub(super) fn show_count(x: f64) -> String {
+pub(crate) fn show_count(x: f64) -> String {
     if x < 1e15 {
         format!("{x:.0}")
     } else {
@@ -190,10 +209,16 @@ pub(super) fn show_count(x: f64) -> String {
     }
 }
 
-pub(super) fn with_unit(text: String, unit: &str) -> String {
+pub(crate) fn with_unit(text: String, unit: &str) -> String {
     if unit.is_empty() {
         text
     } else {
         format!("{text} ({unit})")
     }
+}
+
+/// `word` with its indefinite article: `a string`, `an integer`.
+pub(crate) fn with_article(word: &str) -> String {
+    let vowel = word.starts_with(['a', 'e', 'i', 'o', 'u']);
+    format!("{} {word}", if vowel { "an" } else { "a" })
 }

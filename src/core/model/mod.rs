@@ -17,11 +17,13 @@
 //! deserialised, so they pass the same checks; an error in an override names the override
 //! (`--set robot.braking=-1: robot.braking = -1: must be > 0 (m/s^2)`).
 
-mod error;
-mod keys;
+pub(crate) mod document;
+pub(crate) mod error;
+pub(crate) mod keys;
+pub(crate) mod overrides;
 mod params;
-mod read;
-mod validate;
+pub(crate) mod read;
+pub(crate) mod validate;
 
 use std::fmt;
 

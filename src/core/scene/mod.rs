@@ -5,14 +5,67 @@
 //! [`Problem`] is the scene with one moving obstacle in lane 0 ([`Scene::from_problem`]),
 //! and a scene that is exactly that gives it back ([`Scene::as_problem`]), so old files
 //! keep their answers and certificates.
+//!
+//! # Scene files
+//!
+//! [`Scene::load`], [`Scene::load_with_overrides`] and [`Scene::from_toml_str`] read a scene
+//! as strictly as [`Problem::load`] reads a problem (same machinery, same [`ProblemError`]s):
+//!
+//! ```toml
+//! name = "seed-lanes"
+//! [robot]                      # a problem's robot keys, plus:
+//! goal = 30.0                  # optional: destination x (m), > 0
+//! sensing_range = 3.0          # optional: R >= controller.reaction_radius (m); default unlimited
+//! [controller]                 # a problem's controller keys, plus:
+//! lane_change = true           # optional, default false
+//! lane_change_periods = 10     # whole periods, >= 1; required when lane_change = true
+//! lane_change_rear_gap = 0.5   # m, >= 0; required when lane_change = true
+//! [scene]                      # optional
+//! lanes = [-1, 0, 1]           # lanes that exist, each once, including 0; default [0]
+//! [[obstacle]]                 # at least one
+//! name = "oncoming"            # optional, unique; default "obstacle-<index>"
+//! lane = 0                     # one of scene.lanes
+//! position = 10.0              # initial x (m) > robot.clearance, or a range [min, max]
+//! max_speed = 0.15             # W_i (m/s), >= 0
+//! static = false               # optional, default false; true requires max_speed = 0
+//! ```
+//!
+//! - A file with `[environment]` (a problem file) reads as [`Scene::from_problem`] of its
+//!   problem, after all of the problem's checks with the problem's messages; it may carry
+//!   the scene's `[robot]` and `[controller]` keys, which then apply to that scene (a lane
+//!   change is refused there: it has one lane). `[environment]` beside `[scene]` or
+//!   `[[obstacle]]` is an error.
+//! - `lane_change_periods` and `lane_change_rear_gap` without `lane_change = true` are
+//!   checked and ignored, so that `--set controller.lane_change=false` switches lane changes
+//!   off in a file that sets them.
+//! - The lanes are stored ascending (the file may list them in any order).
+//! - Errors name the file (with the line) or the `--set` flag, the key — an obstacle's by
+//!   index and name, `obstacle[1] ("parked").max_speed` — and the reason.
+//! - `--set` takes a problem's keys, the scene's (`robot.goal=30`, `scene.lanes=[0,1]`,
+//!   `controller.lane_change=true`) and an obstacle's by its 0-based index
+//!   (`obstacle.1.max_speed=0.2`; an index past the last obstacle is an error naming the
+//!   flag). Overridden values pass the same checks.
+//! - [`Scene::to_toml_string`] writes the scene form, which reads back as an equal scene.
 
 //!
-//! Running a scene: [`Scene::params`] gives its numbers ([`SceneParams`]), [`SceneWorld`] is
-//! its step function (guards in [`guards`], lanes in [`lateral`], per-obstacle safety in
+//! # Running a scene
+//!
+//! [`Scene::params`] gives its numbers ([`SceneParams`]), [`SceneWorld`] is its step
+//! function (guards in [`guards`], lanes in [`lateral`], per-obstacle safety in
 //! [`safety`]), and [`simulate`] runs, replays and traces it.
+
+mod fields;
+pub(crate) mod keys;
+mod origin;
+mod read;
+mod shape;
+mod validate;
+mod write;
 
 use serde::{Deserialize, Serialize};
 
+#[cfg(doc)]
+use crate::core::model::ProblemError;
 use crate::core::model::{Controller, Environment, Params, Problem, Robot};
 use crate::core::num::Scalar;
 

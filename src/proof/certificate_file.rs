@@ -1,0 +1,58 @@
+//! A certificate file of either kind, told apart by its `format` tag: a single-obstacle
+//! [`Certificate`] or a [`SceneCertificate`].
+
+use serde::Deserialize;
+
+use crate::proof::certificate::{CheckReport, Invalid, check};
+#[cfg(doc)]
+use crate::proof::certificate::FORMAT;
+use crate::proof::scene_certificate::{SCENE_FORMAT, SceneCertificate};
+use crate::proof::scene_check::check_scene;
+use crate::proof::verdict::Verdict;
+
+pub use crate::proof::certificate::Certificate;
+
+/// A certificate of either kind.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CertificateFile {
+    /// One obstacle in the robot's lane (`safereach-certificate/1`).
+    Single(Box<Certificate>),
+    /// A scene (`safereach-scene-certificate/1`).
+    Scene(Box<SceneCertificate>),
+}
+
+/// Only the format tag, to choose the reader.
+#[derive(Deserialize)]
+struct Tag {
+    format: String,
+}
+
+impl CertificateFile {
+    /// Parses certificate JSON of either kind (strictly: unknown fields are refused).
+    pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
+        let tag: Tag = serde_json::from_str(text)?;
+        if tag.format == SCENE_FORMAT {
+            Ok(CertificateFile::Scene(Box::new(serde_json::from_str(text)?)))
+        } else {
+            // Any other tag is read as a single-obstacle certificate, whose check names a
+            // wrong format (it accepts only [`FORMAT`]).
+            Ok(CertificateFile::Single(Box::new(serde_json::from_str(text)?)))
+        }
+    }
+
+    /// Re-verifies it without the solver.
+    pub fn check(&self) -> Result<CheckReport, Invalid> {
+        match self {
+            CertificateFile::Single(c) => check(c),
+            CertificateFile::Scene(c) => check_scene(c),
+        }
+    }
+
+    /// The stated verdict.
+    pub fn verdict(&self) -> Verdict {
+        match self {
+            CertificateFile::Single(c) => c.verdict,
+            CertificateFile::Scene(c) => c.verdict,
+        }
+    }
+}
