@@ -7,7 +7,11 @@ pub mod lp;
 mod monte_carlo;
 pub mod radius;
 pub mod report;
+mod scene_monte_carlo;
 pub mod sweep;
 
 pub use analyse::*;
 pub use monte_carlo::{MonteCarlo, monte_carlo, random_speeds};
+pub use scene_monte_carlo::{
+    ObstacleMonteCarlo, RandomBehaviour, SceneMonteCarlo, SpeedPattern, scene_monte_carlo,
+};
