@@ -8,8 +8,12 @@ mod monte_carlo;
 pub mod radius;
 pub mod report;
 pub mod scene;
+mod scene_monte_carlo;
 mod scene_witness;
 pub mod sweep;
 
 pub use analyse::*;
 pub use monte_carlo::{MonteCarlo, monte_carlo, random_speeds};
+pub use scene_monte_carlo::{
+    ObstacleMonteCarlo, RandomBehaviour, SceneMonteCarlo, SpeedPattern, scene_monte_carlo,
+};

@@ -238,7 +238,7 @@ impl<N: Scalar> SceneWorld<N> {
     }
 
     /// Advance one control period with obstacle i moving at `speeds[i]` (the caller keeps
-    /// 0 ≤ speeds[i] ≤ W_i; replay checks that).
+    /// 0 ≤ `speeds[i]` ≤ W_i; nothing here checks it).
     ///
     /// # Panics
     /// If `speeds` does not give one speed per obstacle.
