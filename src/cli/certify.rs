@@ -13,8 +13,9 @@ use safereach::core::semantics::Mode;
 use safereach::proof::certificate::{self, Certificate};
 
 use super::exit::Exit;
-use super::input;
+use super::input::{self, Input};
 use super::output::{Output, write_file};
+use super::scene_certify;
 
 /// Arguments of `safereach certify`.
 #[derive(clap::Args)]
@@ -29,12 +30,15 @@ pub struct CertifyArgs {
     json: bool,
     /// Write the certificate to this file (atomically).
     #[arg(long)]
-    out: Option<PathBuf>,
+    pub(super) out: Option<PathBuf>,
 }
 
 /// Runs `safereach certify`: exit 0 certified, 1 refuted, 3 inconclusive.
 pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
-    let problem = input::problem(&args.problem, &args.sets)?;
+    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(p) => p,
+        Input::Scene(scene) => return scene_certify::run(&scene, &args.out, args.json, out),
+    };
     let analysis = analysis::analyse(&problem).context("analysis failed")?;
     let cert = Certificate::from_analysis(&analysis);
     // Never print a verdict the exact checker would not accept.

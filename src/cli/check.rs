@@ -6,8 +6,6 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
-use safereach::proof::certificate;
-
 use super::exit::Exit;
 use super::input::{self, Unreadable};
 use super::output::Output;
@@ -22,8 +20,8 @@ pub struct CheckArgs {
 /// Runs `safereach check`: exit 0 valid, 1 invalid.
 pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
     let path = &args.certificate;
-    let cert = input::certificate(path, Unreadable::Reading)?;
-    match certificate::check(&cert) {
+    let cert = input::any_certificate(path, Unreadable::Reading)?;
+    match cert.check() {
         Ok(report) => {
             writeln!(
                 out,

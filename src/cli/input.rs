@@ -9,6 +9,7 @@ use anyhow::{Context, Result};
 use safereach::core::model::Problem;
 use safereach::core::scene::Scene;
 use safereach::proof::certificate::Certificate;
+use safereach::proof::certificate_file::CertificateFile;
 
 /// Reads the problem file at `path` and applies `sets` (`dotted.key=value`, in order). The
 /// error names the file, or the override, the key and the reason.
@@ -20,10 +21,41 @@ pub fn problem(path: &Path, sets: &[String]) -> Result<Problem> {
 /// `sets` (`dotted.key=value`, in order; an obstacle's keys as `obstacle.<index>.<key>`). The
 /// error names the file, or the override, the key (an obstacle's by index and name) and the
 /// reason.
-// No subcommand reads scenes yet; they move over one by one.
-#[allow(dead_code)]
 pub fn scene(path: &Path, sets: &[String]) -> Result<Scene> {
     Ok(Scene::load_with_overrides(path, sets)?)
+}
+
+/// A file read as what it states: a single-obstacle problem (`[environment]`, read with all
+/// of today's checks, so it keeps today's answers and certificates) or a scene.
+pub enum Input {
+    /// A single-obstacle problem file.
+    Problem(Problem),
+    /// A scene file (or a problem file whose overrides make it a scene, e.g. `robot.goal`).
+    Scene(Scene),
+}
+
+/// Reads `path` with `sets` as a problem if it is one, else as a scene. Errors come from the
+/// scene reader, which reports a problem file's errors exactly as the problem reader does.
+pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
+    match Problem::load_with_overrides(path, sets) {
+        Ok(p) => Ok(Input::Problem(p)),
+        Err(_) => Ok(Input::Scene(scene(path, sets)?)),
+    }
+}
+
+/// Reads a certificate file of either kind (JSON, as `certify --out` writes it), not
+/// checked.
+pub fn any_certificate(path: &Path, unreadable: Unreadable) -> Result<CertificateFile> {
+    let text = read_certificate(path, unreadable)?;
+    CertificateFile::from_json(&text)
+        .with_context(|| format!("{}: not a safereach certificate", path.display()))
+}
+
+fn read_certificate(path: &Path, unreadable: Unreadable) -> Result<String> {
+    std::fs::read_to_string(path).with_context(|| match unreadable {
+        Unreadable::Reading => format!("reading {}", path.display()),
+        Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
+    })
 }
 
 /// How an unreadable certificate file is named in the error. `check` and
@@ -41,10 +73,7 @@ pub enum Unreadable {
 /// Reads and parses the certificate at `path` (JSON, as `certify --out` writes it). It is
 /// not checked here: that is `check`'s job, or the caller's.
 pub fn certificate(path: &Path, unreadable: Unreadable) -> Result<Certificate> {
-    let text = std::fs::read_to_string(path).with_context(|| match unreadable {
-        Unreadable::Reading => format!("reading {}", path.display()),
-        Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
-    })?;
+    let text = read_certificate(path, unreadable)?;
     serde_json::from_str(&text)
         .with_context(|| format!("{}: not a safereach certificate", path.display()))
 }

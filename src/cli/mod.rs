@@ -23,6 +23,8 @@ mod monitor;
 mod output;
 mod radius;
 mod report;
+mod scene_certify;
+mod scene_simulate;
 mod simulate;
 mod sweep;
 

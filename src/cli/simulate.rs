@@ -14,8 +14,9 @@ use safereach::core::simulate;
 use safereach::proof::certificate::Certificate;
 
 use super::exit::Exit;
-use super::input::{self, Unreadable};
+use super::input::{self, Input, Unreadable};
 use super::output::{Output, write_file};
+use super::scene_simulate;
 
 /// Arguments of `safereach simulate`, as typed.
 #[derive(clap::Args)]
@@ -27,19 +28,19 @@ pub struct SimulateArgs {
     sets: Vec<String>,
     /// Number of random runs.
     #[arg(long, default_value_t = 1000)]
-    runs: usize,
+    pub(super) runs: usize,
     /// Seed of the first run (run i uses seed + i).
     #[arg(long, default_value_t = 0)]
-    seed: u64,
+    pub(super) seed: u64,
     /// Replay this certificate's witness instead of random runs.
     #[arg(long, value_name = "CERT")]
-    replay: Option<PathBuf>,
+    pub(super) replay: Option<PathBuf>,
     /// Write the replayed run (or the random run that came closest): CSV, or JSON Lines for .jsonl.
     #[arg(long, value_name = "FILE")]
-    trace: Option<PathBuf>,
+    pub(super) trace: Option<PathBuf>,
     /// Print JSON.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
 }
 
 /// What to simulate, validated.
@@ -55,7 +56,12 @@ enum Runs {
 
 /// Runs `safereach simulate`: exit 0 no collision, 1 a collision.
 pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
-    let problem = input::problem(&args.problem, &args.sets)?;
+    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(p) => p,
+        Input::Scene(scene) => {
+            return scene_simulate::run(&scene, &args, out);
+        }
+    };
     let runs = match args.replay {
         Some(path) => Runs::Replay {
             cert: Box::new(input::certificate(&path, Unreadable::Reading)?),

@@ -1,0 +1,132 @@
+//! `safereach certify` on a scene: the verdict, the worst case named by obstacle and lane,
+//! s* per obstacle, and the scene certificate (checked exactly before anything is printed).
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::Result;
+
+use safereach::analysis::scene::analyse_scene;
+use safereach::core::scene::Scene;
+use safereach::core::semantics::Mode;
+use safereach::proof::scene_certificate::{SceneCertificate, Trigger};
+use safereach::proof::scene_check::check_scene;
+use safereach::proof::schedule::Ending;
+
+use super::exit::Exit;
+use super::output::{Output, write_file};
+
+/// Analyses a scene, writes its certificate and prints the answer; the exit code is the
+/// verdict's (0 certified, 1 refuted, 3 inconclusive). A scene the analyser does not decide
+/// yet (lane changes, position ranges) is an error naming why.
+pub fn run(
+    scene: &Scene,
+    out_path: &Option<PathBuf>,
+    json: bool,
+    out: &mut Output,
+) -> Result<Exit> {
+    let analysis = analyse_scene(scene).map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
+    let cert = SceneCertificate::from_analysis(&analysis);
+    check_scene(&cert)
+        .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
+    let text = serde_json::to_string_pretty(&cert)? + "\n";
+    if let Some(path) = out_path {
+        write_file(path, text.as_bytes())?;
+    }
+    if json {
+        write!(out, "{text}")?;
+    } else {
+        write!(out, "{}", summary(&cert))?;
+    }
+    Ok(cert.verdict.into())
+}
+
+/// The human-readable answer.
+fn summary(cert: &SceneCertificate) -> String {
+    let scene = &cert.scene;
+    let mut s = format!("{}: {}\n", scene.name, cert.verdict.as_str());
+    let sep = match (cert.min_separation, cert.never_stops) {
+        (_, true) => "-inf (an obstacle can pass the robot while it never brakes)".to_string(),
+        (Some(x), _) => format!("{x:.6} m"),
+        (None, _) if cert.obstacles.is_empty() => {
+            "+inf (no obstacle shares the robot's lane)".to_string()
+        }
+        (None, _) => "unknown (no worst case could be realised)".to_string(),
+    };
+    s += &format!("  worst-case minimum separation s* = {sep}\n");
+    match cert.lower_bound {
+        Some(lb) => {
+            s += &format!(
+                "  rigorous lower bound {lb:.9} m vs clearance {} m\n",
+                cert.clearance
+            )
+        }
+        None => s += "  no finite lower bound proved\n",
+    }
+    if let Some(w) = &cert.witness {
+        let name = &scene.obstacles[w.obstacle].name;
+        let why = match (&w.piece.ending, &w.trigger) {
+            (Ending::Bystander, Some(Trigger::Goal)) => "the robot brakes for its destination",
+            (Ending::Bystander, Some(Trigger::Obstacle { .. })) => {
+                "the robot brakes for another obstacle"
+            }
+            (Ending::PassThrough, _) => "it passes through the reaction area unbraked",
+            (Ending::WrongAssumption, _) => "the robot brakes on seeing it faster than V_a",
+            _ => "the robot brakes on collision danger",
+        };
+        let trigger = match &w.trigger {
+            Some(Trigger::Obstacle { obstacle, .. }) => {
+                format!(" (\"{}\")", scene.obstacles[*obstacle].name)
+            }
+            _ => String::new(),
+        };
+        let brake = w
+            .steps
+            .iter()
+            .find(|r| r.row.robot_mode == Mode::Brake)
+            .map(|r| format!(", robot brakes at t = {:.3} s", r.row.t))
+            .unwrap_or_default();
+        s += &format!(
+            "  worst case: obstacle \"{name}\" in lane {}: {why}{trigger}{brake}; {}\n",
+            w.lane,
+            if w.collides {
+                "collides".to_string()
+            } else {
+                format!("gap at rest {:.6} m", w.separation.unwrap_or(f64::NAN))
+            }
+        );
+    }
+    s += "  per obstacle of the robot's lane (others are out of reach):\n";
+    for o in &cert.obstacles {
+        let sep = o
+            .min_separation
+            .map_or("-".to_string(), |x| format!("{x:.6} m"));
+        let bound = o
+            .lower_bound
+            .map_or("none".to_string(), |x| format!("{x:.9} m"));
+        s += &format!(
+            "    {:<16} s* {:<14} bound {:<16} pieces {} own + {} bystander\n",
+            format!("\"{}\"", o.name),
+            sep,
+            bound,
+            o.own.len(),
+            o.bystanders.len()
+        );
+    }
+    s += &format!(
+        "  pieces: {} ({} linear programs solved)\n",
+        cert.pieces(),
+        cert.programs_solved
+    );
+    s += "  premises:\n";
+    for p in &cert.premises {
+        s += &format!(
+            "    {:<21} {} {} {}\n",
+            p.name,
+            p.description(),
+            p.bound,
+            p.unit()
+        );
+    }
+    s
+}

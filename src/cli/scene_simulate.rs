@@ -1,0 +1,132 @@
+//! `safereach simulate` on a scene: random behaviours of every obstacle (Monte Carlo), or
+//! the replay of a scene certificate's witness, through the scene's step function.
+
+use std::io::Write;
+
+use anyhow::{Context, Result};
+
+use safereach::analysis::{RandomBehaviour, SpeedPattern, scene_monte_carlo};
+use safereach::core::num::Exact;
+use safereach::core::output::scene_trace_for_path;
+use safereach::core::scene::{Scene, simulate};
+use safereach::proof::certificate_file::CertificateFile;
+
+use super::exit::Exit;
+use super::input::{self, Unreadable};
+use super::output::{Output, write_file};
+use super::simulate::SimulateArgs;
+
+/// Runs `simulate` for a scene: exit 0 no collision, 1 a collision.
+pub fn run(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
+    match &args.replay {
+        Some(path) => replay(scene, path, args, out),
+        None if args.runs == 0 => anyhow::bail!("--runs must be at least 1"),
+        None => random(scene, args, out),
+    }
+}
+
+/// Replays a scene certificate's witness: every obstacle's speeds, period by period.
+fn replay(
+    scene: &Scene,
+    path: &std::path::Path,
+    args: &SimulateArgs,
+    out: &mut Output,
+) -> Result<Exit> {
+    let CertificateFile::Scene(cert) = input::any_certificate(path, Unreadable::Reading)? else {
+        anyhow::bail!(
+            "{}: a single-obstacle certificate; {} is a scene (replay it with its problem file)",
+            path.display(),
+            scene.name
+        );
+    };
+    let witness = cert.witness.as_ref().with_context(|| {
+        format!(
+            "{}: the certificate has no witness to replay",
+            path.display()
+        )
+    })?;
+    let params = scene.params::<Exact>();
+    if witness.obstacle_speeds.len() != scene.obstacles.len() {
+        anyhow::bail!(
+            "{}: the witness has speeds for {} obstacles, the scene has {}",
+            path.display(),
+            witness.obstacle_speeds.len(),
+            scene.obstacles.len()
+        );
+    }
+    let periods = witness
+        .obstacle_speeds
+        .iter()
+        .map(Vec::len)
+        .max()
+        .unwrap_or(0);
+    let starts: Vec<Exact> = params
+        .obstacles
+        .iter()
+        .map(|o| o.start_min.clone())
+        .collect();
+    let replay = simulate::replay(&params, &witness.obstacle_speeds, &starts, periods, false);
+    let rows = replay.trace();
+    if let Some(trace) = &args.trace {
+        write_file(trace, scene_trace_for_path(trace, &rows).as_bytes())?;
+    }
+    let seps = replay.separations();
+    let worst = &scene.obstacles[witness.obstacle].name;
+    let sep = seps[witness.obstacle].as_ref().map(|g| g.to_f64().value());
+    if args.json {
+        writeln!(
+            out,
+            "{}",
+            serde_json::json!({"replay": path, "collided": replay.collided(), "obstacle": worst, "separation": sep, "steps": rows.len()})
+        )?;
+    } else {
+        writeln!(
+            out,
+            "replayed {}: {} periods, {}, separation of \"{worst}\" {}",
+            path.display(),
+            replay.periods(),
+            if replay.collided() {
+                "COLLISION"
+            } else {
+                "no collision"
+            },
+            sep.map(|s| format!("{s:.9} m"))
+                .unwrap_or_else(|| "- (never in its lane while moving)".into())
+        )?;
+    }
+    Ok(Exit::fail_if(replay.collided()))
+}
+
+/// Random runs; the trace written is the run that came closest.
+fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
+    let params = scene.params::<f64>();
+    let patterns = SpeedPattern::ALL;
+    let mc = scene_monte_carlo(&params, args.runs, args.seed, &patterns);
+    if let Some(trace) = &args.trace {
+        let mut behaviour = RandomBehaviour::new(&params, args.seed, mc.closest_run, &patterns);
+        let starts = behaviour.starts.clone();
+        let run = simulate::run(
+            params.clone(),
+            |i, _| behaviour.next_speed(i),
+            starts,
+            simulate::horizon(&params),
+            false,
+        );
+        let rows = simulate::trace(&params, &run);
+        write_file(trace, scene_trace_for_path(trace, &rows).as_bytes())?;
+    }
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string(&mc)?)?;
+    } else {
+        let closest = match (&mc.min_separation, &mc.closest_obstacle) {
+            (Some(s), Some(o)) => format!("{s:.6} m to \"{o}\" (run {})", mc.closest_run),
+            _ => "- (no obstacle shared a lane with the moving robot)".into(),
+        };
+        writeln!(
+            out,
+            "{}: {} runs (seed {}), {} collisions, minimum separation seen {closest}",
+            scene.name, mc.runs, mc.seed, mc.collisions
+        )?;
+    }
+    Ok(Exit::fail_if(mc.collisions > 0))
+}
