@@ -9,6 +9,7 @@ pub mod radius;
 pub mod report;
 pub mod scene;
 mod scene_monte_carlo;
+pub mod scene_radius;
 mod scene_witness;
 pub mod sweep;
 

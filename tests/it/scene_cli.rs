@@ -1,0 +1,186 @@
+//! The commands on scene files: certify (verdict, worst case by obstacle and lane, exit
+//! codes, a certificate that `check` accepts and that names the obstacle), simulate (random
+//! runs and the replay of a witness), and bad scene input (exit 2, naming file, key and
+//! reason).
+
+use predicates::prelude::*;
+use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::verdict::Verdict;
+
+use crate::common::cli::{bad_input_exits_2, safereach, stdout};
+use crate::common::paths::problem_file;
+use crate::common::tmp;
+
+/// `certify --out` on a shipped scene: the verdict's exit code, the certificate `check`
+/// accepts, and its worst case named.
+fn certify(name: &str, code: i32, verdict: Verdict, worst: &str) {
+    let dir = tmp();
+    let cert = dir.path().join("c.json");
+    let out = safereach(dir.path())
+        .arg("certify")
+        .arg(problem_file(name))
+        .arg("--out")
+        .arg(&cert)
+        .assert()
+        .code(code)
+        .get_output()
+        .clone();
+    let text = stdout(&out);
+    assert!(
+        text.contains(&format!("obstacle \"{worst}\" in lane 0")),
+        "{text}"
+    );
+    let file = CertificateFile::from_json(&std::fs::read_to_string(&cert).unwrap()).unwrap();
+    assert!(matches!(file, CertificateFile::Scene(_)));
+    assert_eq!(file.check().unwrap().verdict, verdict);
+    safereach(dir.path())
+        .arg("check")
+        .arg(&cert)
+        .assert()
+        .code(0)
+        .stdout(predicate::str::contains(format!(
+            "verdict {} re-verified",
+            verdict.as_str()
+        )));
+}
+
+#[test]
+fn shipped_scenes_certify_as_documented() {
+    certify("scene-oncoming.toml", 0, Verdict::Certified, "second");
+    certify("scene-destination.toml", 0, Verdict::Certified, "fast");
+    certify("scene-short-sensing.toml", 1, Verdict::Refuted, "oncoming");
+}
+
+#[test]
+fn a_refuting_witness_replays_to_a_collision() {
+    let dir = tmp();
+    let cert = dir.path().join("c.json");
+    let scene = problem_file("scene-short-sensing.toml");
+    safereach(dir.path())
+        .args(["certify", scene.to_str().unwrap(), "--out"])
+        .arg(&cert)
+        .assert()
+        .code(1);
+    let trace = dir.path().join("t.csv");
+    safereach(dir.path())
+        .args(["simulate", scene.to_str().unwrap(), "--replay"])
+        .arg(&cert)
+        .arg("--trace")
+        .arg(&trace)
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("COLLISION"));
+    let text = std::fs::read_to_string(&trace).unwrap();
+    assert!(
+        text.lines()
+            .next()
+            .unwrap()
+            .ends_with("robot_lane,obstacle_lane,leaving_lane")
+    );
+}
+
+#[test]
+fn random_runs_of_a_certified_scene_never_collide() {
+    let dir = tmp();
+    safereach(dir.path())
+        .args([
+            "simulate",
+            problem_file("scene-oncoming.toml").to_str().unwrap(),
+        ])
+        .args(["--runs", "200", "--seed", "5"])
+        .assert()
+        .code(0)
+        .stdout(predicate::str::contains("0 collisions"));
+}
+
+#[test]
+fn an_overridden_obstacle_changes_the_verdict() {
+    // "second" at 0.3 m/s > V_a: the wrong-assumption guard brakes, but not in time.
+    let dir = tmp();
+    safereach(dir.path())
+        .args([
+            "certify",
+            problem_file("scene-oncoming.toml").to_str().unwrap(),
+        ])
+        .args(["--set", "obstacle.1.max_speed=0.3"])
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("obstacle \"second\""));
+}
+
+#[test]
+fn bad_scene_input_exits_2() {
+    let dir = tmp();
+    bad_input_exits_2(
+        dir.path(),
+        "certify",
+        &problem_file("scene-oncoming.toml"),
+        &[
+            (
+                vec!["--set", "obstacle.3.max_speed=0.1"],
+                "a static obstacle must have max_speed = 0",
+            ),
+            (vec!["--set", "obstacle.9.lane=0"], "obstacle.9"),
+            (vec!["--set", "obstacle.0.lane=2"], "lane"),
+        ],
+    );
+}
+
+#[test]
+fn a_lane_change_scene_is_not_analysed_yet_and_says_so() {
+    let dir = tmp();
+    safereach(dir.path())
+        .args([
+            "certify",
+            problem_file("scene-oncoming.toml").to_str().unwrap(),
+        ])
+        .args(["--set", "controller.lane_change=true"])
+        .args(["--set", "controller.lane_change_periods=10"])
+        .args(["--set", "controller.lane_change_rear_gap=0.5"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "lane changes are not analysed yet",
+        ));
+}
+
+#[test]
+fn scene_radius_matches_the_single_obstacle_radius_and_respects_the_sensing_range() {
+    let dir = tmp();
+    let scene = problem_file("scene-short-sensing.toml");
+    // The sensors cap ρ at 1.0 m; the robot needs 1.07 m (as seed.toml's radius says).
+    safereach(dir.path())
+        .args(["radius", scene.to_str().unwrap()])
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("no safe radius up to 1.000000 m"));
+    let single = stdout(
+        &safereach(dir.path())
+            .args([
+                "radius",
+                crate::common::paths::seed_file().to_str().unwrap(),
+                "--json",
+            ])
+            .assert()
+            .code(0)
+            .get_output()
+            .clone(),
+    );
+    let single: serde_json::Value = serde_json::from_str(&single).unwrap();
+    let text = stdout(
+        &safereach(dir.path())
+            .args(["radius", scene.to_str().unwrap(), "--json"])
+            .args(["--set", "robot.sensing_range=2"])
+            .assert()
+            .code(0)
+            .get_output()
+            .clone(),
+    );
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let scene_radius = value[0]["radius"].as_f64().unwrap();
+    let single_radius = single["safe_radius"].as_f64().unwrap();
+    assert!(
+        scene_radius >= single_radius - 1e-9 && scene_radius - single_radius <= 2e-6,
+        "{scene_radius} vs {single_radius}"
+    );
+}
