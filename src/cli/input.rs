@@ -17,14 +17,6 @@ pub fn problem(path: &Path, sets: &[String]) -> Result<Problem> {
     Ok(Problem::load_with_overrides(path, sets)?)
 }
 
-/// Reads the scene file at `path` (or a problem file, as its one-obstacle scene) and applies
-/// `sets` (`dotted.key=value`, in order; an obstacle's keys as `obstacle.<index>.<key>`). The
-/// error names the file, or the override, the key (an obstacle's by index and name) and the
-/// reason.
-pub fn scene(path: &Path, sets: &[String]) -> Result<Scene> {
-    Ok(Scene::load_with_overrides(path, sets)?)
-}
-
 /// A file read as what it states: a single-obstacle problem (`[environment]`, read with all
 /// of today's checks, so it keeps today's answers and certificates) or a scene.
 pub enum Input {
@@ -34,13 +26,28 @@ pub enum Input {
     Scene(Scene),
 }
 
-/// Reads `path` with `sets` as a problem if it is one, else as a scene. Errors come from the
-/// scene reader, which reports a problem file's errors exactly as the problem reader does.
+/// Reads `path` with `sets` as a problem if it is one, else as a scene (a scene file, or a
+/// problem file whose overrides add scene keys). When neither reads, the error is the scene
+/// reader's for a file in scene form (`[scene]` or `[[obstacle]]`), else the problem
+/// reader's, so problem files keep today's messages.
 pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
-    match Problem::load_with_overrides(path, sets) {
-        Ok(p) => Ok(Input::Problem(p)),
-        Err(_) => Ok(Input::Scene(scene(path, sets)?)),
+    let problem_error = match Problem::load_with_overrides(path, sets) {
+        Ok(p) => return Ok(Input::Problem(p)),
+        Err(e) => e,
+    };
+    match Scene::load_with_overrides(path, sets) {
+        Ok(s) => Ok(Input::Scene(s)),
+        Err(e) if scene_form(path) => Err(e.into()),
+        Err(_) => Err(problem_error.into()),
     }
+}
+
+/// Whether the file at `path` has a `scene` or `obstacle` table at its top level.
+fn scene_form(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| text.parse::<toml::Table>().ok())
+        .is_some_and(|t| t.contains_key("scene") || t.contains_key("obstacle"))
 }
 
 /// Reads a certificate file of either kind (JSON, as `certify --out` writes it), not
