@@ -71,8 +71,13 @@
 //! - `min_separation` / `never_stops` equal the closed optimum, or else (printed as
 //!   BOUNDARY) the least realisable one;
 //! - never `Certified` when a realisable optimum is below the clearance, always `Certified`
-//!   when the closed optimum is above it and nothing passes;
+//!   when the closed optimum is above it and nothing passes, never `Refuted` when every
+//!   realisable optimum is above it;
 //! - obstacles in another lane change nothing: the scene without them has the same answer.
+//!
+//! The oracle is held to the semantics as well: behaviours sampled at random and replayed
+//! through it never separate less than the oracle's s* and never pass the robot unbraked
+//! unless a pass-through program is feasible.
 //!
 //! **The contract's s* when something passes.** docs/semantics.md §11.6 takes a passed
 //! obstacle's gap at the robot's rest (not −∞) when the robot brakes later anyway — for
