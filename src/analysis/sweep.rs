@@ -19,15 +19,21 @@
 //! order whatever the parallel schedule, so output files are reproducible byte for byte.
 //! A shard `i/n` takes cells `i, i+n, i+2n, …`, so shards of a huge sweep have similar
 //! mixes of cheap and expensive cells; merging shards sorts by cell number.
+//!
+//! The base may be a scene file: axes then take its keys too (`obstacle.0.max_speed`,
+//! `robot.goal`, …), cells are analysed by the scene analyser, and Monte Carlo runs every
+//! obstacle with uniform random speeds.
 
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::{self, Options, Verdict, WitnessPolicy};
+use crate::analysis::scene::analyse_scene;
+use crate::analysis::{self, Options, SpeedPattern, Verdict, WitnessPolicy};
 use crate::core::model::{Problem, ProblemError};
 use crate::core::num::f64_at_most;
+use crate::core::scene::Scene;
 
 /// Grid-file errors (all name the file).
 #[derive(Debug, thiserror::Error)]
@@ -82,6 +88,17 @@ pub struct Grid {
     pub runs: usize,
     /// Seed of the first Monte Carlo run.
     pub seed: u64,
+    /// The base is a scene file (else a single-obstacle problem file).
+    pub scene: bool,
+}
+
+/// What one cell analyses.
+#[derive(Clone, Debug)]
+pub enum CellInput {
+    /// A single-obstacle problem.
+    Problem(Problem),
+    /// A scene.
+    Scene(Scene),
 }
 
 /// The result of one cell.
@@ -109,6 +126,53 @@ pub struct CellResult {
     pub pieces: usize,
     /// Linear programs solved.
     pub programs: usize,
+}
+
+/// The axis values of a cell as JSON, keyed by dotted key.
+fn axes_map(values: &[(String, toml::Value)]) -> serde_json::Map<String, serde_json::Value> {
+    values
+        .iter()
+        .map(|(k, v)| {
+            (
+                k.clone(),
+                serde_json::to_value(v).unwrap_or(serde_json::Value::Null),
+            )
+        })
+        .collect()
+}
+
+/// One cell of a scene grid.
+fn scene_cell(
+    cell: usize,
+    values: &[(String, toml::Value)],
+    scene: &Scene,
+    runs: usize,
+    seed: u64,
+) -> Result<CellResult, SweepError> {
+    let a = analyse_scene(scene).map_err(|e| SweepError::Analysis {
+        cell,
+        reason: e.to_string(),
+    })?;
+    let mc = (runs > 0).then(|| {
+        crate::analysis::scene_monte_carlo(&scene.params(), runs, seed, &[SpeedPattern::Uniform])
+    });
+    Ok(CellResult {
+        cell,
+        axes: axes_map(values),
+        verdict: a.verdict,
+        min_separation: a.min_separation,
+        never_stops: a.never_stops,
+        lower_bound: a.lower_bound.as_ref().map(f64_at_most),
+        collisions: mc.as_ref().map(|m| m.collisions),
+        runs: mc.as_ref().map(|m| m.runs),
+        simulated_min_separation: mc.as_ref().and_then(|m| m.min_separation),
+        pieces: a
+            .obstacles
+            .iter()
+            .map(|o| o.own.len() + o.bystanders.len())
+            .sum(),
+        programs: a.programs_solved,
+    })
 }
 
 /// A shard of a sweep: cells `index, index + count, …`.
@@ -166,7 +230,15 @@ impl Grid {
             path: format!("{shown}: base = {:?} ({})", file.base, base_path.display()),
             source,
         })?;
-        Problem::from_toml_str(&base_text, &base_path.display().to_string())?;
+        let origin = base_path.display().to_string();
+        let scene = match Problem::from_toml_str(&base_text, &origin) {
+            Ok(_) => false,
+            Err(e) => {
+                // Not a problem file: a scene, or the problem reader's error stands.
+                Scene::from_toml_str(&base_text, &origin).map_err(|_| e)?;
+                true
+            }
+        };
         let mut axes = Vec::new();
         for (key, value) in file.axes {
             let toml::Value::Array(values) = value else {
@@ -201,11 +273,12 @@ impl Grid {
             axes,
             runs: file.runs,
             seed: file.seed,
+            scene,
         };
         // Every value must make a valid problem: check each axis value once, up front.
         for (key, values) in &grid.axes {
             for v in values {
-                grid.problem_with(&[(key.clone(), v.clone())])?;
+                grid.input_with(&[(key.clone(), v.clone())])?;
             }
         }
         Ok(grid)
@@ -232,24 +305,44 @@ impl Grid {
         out
     }
 
-    fn problem_with(&self, values: &[(String, toml::Value)]) -> Result<Problem, ProblemError> {
+    fn input_with(&self, values: &[(String, toml::Value)]) -> Result<CellInput, ProblemError> {
         let sets: Vec<String> = values.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        Problem::from_toml_str_with_overrides(
-            &self.base_text,
-            &self.base_path.display().to_string(),
-            &sets,
-        )
+        let origin = self.base_path.display().to_string();
+        if self.scene {
+            Scene::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
+                .map(CellInput::Scene)
+        } else {
+            Problem::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
+                .map(CellInput::Problem)
+        }
     }
 
-    /// The problem of a cell.
+    /// The problem of a cell (an error for a scene grid: see [`Grid::input`]).
     pub fn problem(&self, cell: usize) -> Result<Problem, ProblemError> {
-        self.problem_with(&self.cell_values(cell))
+        match self.input(cell)? {
+            CellInput::Problem(p) => Ok(p),
+            CellInput::Scene(s) => s.as_problem().ok_or_else(|| ProblemError::Invalid {
+                origin: self.base_path.display().to_string(),
+                key: "environment".into(),
+                value: String::new(),
+                reason: "the base is a scene, not a single-obstacle problem".into(),
+                location: None,
+            }),
+        }
+    }
+
+    /// What a cell analyses.
+    pub fn input(&self, cell: usize) -> Result<CellInput, ProblemError> {
+        self.input_with(&self.cell_values(cell))
     }
 
     /// Analyses one cell (and simulates it, with `runs` > 0).
     pub fn run_cell(&self, cell: usize, runs: usize, seed: u64) -> Result<CellResult, SweepError> {
         let values = self.cell_values(cell);
-        let problem = self.problem_with(&values)?;
+        let problem = match self.input_with(&values)? {
+            CellInput::Problem(p) => p,
+            CellInput::Scene(s) => return scene_cell(cell, &values, &s, runs, seed),
+        };
         let a = analysis::analyse_with(
             &problem,
             Options {
@@ -260,13 +353,7 @@ impl Grid {
             cell,
             reason: e.to_string(),
         })?;
-        let mut axes = serde_json::Map::new();
-        for (k, v) in &values {
-            axes.insert(
-                k.clone(),
-                serde_json::to_value(v).unwrap_or(serde_json::Value::Null),
-            );
-        }
+        let axes = axes_map(&values);
         let mc =
             (runs > 0).then(|| crate::analysis::monte_carlo(&problem.params::<f64>(), runs, seed));
         Ok(CellResult {

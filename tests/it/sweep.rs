@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use safereach::analysis::scene::analyse_scene;
 use safereach::analysis::sweep::{self, Grid, Shard};
 use safereach::analysis::{Verdict, analyse};
 use safereach::core::num::f64_at_most;
@@ -50,6 +51,30 @@ fn every_cell_equals_a_single_analysis() {
         match (r.min_separation, a.min_separation) {
             (Some(x), Some(y)) => assert!((x - y).abs() <= 1e-6, "cell {}: {x} vs {y}", r.cell),
             (x, y) => assert_eq!(x, y, "cell {}", r.cell),
+        }
+    }
+}
+
+/// A grid over a scene: every cell is the scene analyser's answer for the scene with the
+/// cell's overrides (an obstacle's bound by index, the radius), and Monte Carlo over a
+/// certified cell never collides.
+#[test]
+fn every_scene_cell_equals_a_scene_analysis() {
+    let grid = Grid::load(&root().join("problems/scene-oncoming-grid.toml")).expect("loads");
+    assert!(grid.scene);
+    let results = grid.run(Shard::ALL, 10, 3, || {}).expect("sweeps");
+    for r in &results {
+        let sweep::CellInput::Scene(scene) = grid.input(r.cell).expect("cell") else {
+            panic!("a scene grid's cells are scenes");
+        };
+        let w = r.axes["obstacle.1.max_speed"].as_f64().unwrap();
+        assert_eq!(scene.obstacles[1].max_speed, w);
+        let a = analyse_scene(&scene).expect("analyses");
+        assert_eq!(r.verdict, a.verdict, "cell {}", r.cell);
+        assert_eq!(r.lower_bound, a.lower_bound.as_ref().map(f64_at_most));
+        assert_eq!(r.min_separation, a.min_separation, "cell {}", r.cell);
+        if r.verdict == Verdict::Certified {
+            assert_eq!(r.collisions, Some(0), "cell {}", r.cell);
         }
     }
 }
