@@ -95,17 +95,13 @@ pub fn analyse_scene(scene: &Scene) -> Result<SceneAnalysis, SceneAnalysisError>
         .collect();
     for a in 0..obstacles.len() {
         let d = &dec.obstacles[a].decomposition;
-        let mut pieces = Vec::new();
-        for step in dec.bystander_steps(a) {
-            let possible = step.by_goal
+        let pieces = dec.bystanders_needed(a, |step| {
+            step.by_goal
                 || step
                     .by_pieces
                     .iter()
-                    .any(|&(b, p)| !proved_empty(&obstacles[b].own[p].result));
-            if possible {
-                pieces.extend(d.bystander_pieces(step.step));
-            }
-        }
+                    .any(|&(b, p)| !proved_empty(&obstacles[b].own[p].result))
+        });
         obstacles[a].bystanders = prove_all(d, &pieces, &mut solved);
     }
     let mut lower_bound = Some(least_start(&dec));

@@ -118,14 +118,9 @@ type Checked = Option<(ProofKind, Exact)>;
 /// The bystander pieces obstacle `a` must have proofs for, given which own pieces of every
 /// obstacle are proved empty.
 fn required_bystanders(dec: &SceneDecomposition, a: usize, empty: &[Vec<bool>]) -> Vec<Piece> {
-    let mut out = Vec::new();
-    for step in dec.bystander_steps(a) {
-        let possible = step.by_goal || step.by_pieces.iter().any(|&(b, p)| !empty[b][p]);
-        if possible {
-            out.extend(dec.obstacles[a].decomposition.bystander_pieces(step.step));
-        }
-    }
-    out
+    dec.bystanders_needed(a, |step| {
+        step.by_goal || step.by_pieces.iter().any(|&(b, p)| !empty[b][p])
+    })
 }
 
 /// One list of proofs against the pieces rebuilt from the scene.

@@ -40,7 +40,7 @@ use crate::core::rational::Rational;
 use crate::core::scene::{Position, Scene};
 use crate::core::semantics::Mode;
 use crate::core::simulate;
-use crate::proof::schedule::{Decomposition, Ending};
+use crate::proof::schedule::{Decomposition, Ending, Piece};
 
 /// The lane the robot drives in (and, without lane changes, never leaves).
 pub const ROBOT_LANE: i32 = 0;
@@ -164,6 +164,33 @@ impl SceneDecomposition {
             }
         }
         steps
+    }
+
+    /// The bystander pieces obstacle `a` needs, given which of its bystander steps are
+    /// possible (`possible`: the destination brakes then, or some firing piece there is not
+    /// proved empty). Of the possible steps at or before the obstacle's `first_brake` only
+    /// the last is kept: before `first_brake` even the fastest behaviour of the obstacle is
+    /// observed outside the reaction area, so its bystander rows hold for every behaviour
+    /// and the pieces of those steps have the same behaviours; braking later never raises a
+    /// behaviour's gap at rest (reductions.md, Lemma R1), so the last one is the worst.
+    pub fn bystanders_needed(
+        &self,
+        a: usize,
+        possible: impl Fn(&BystanderStep) -> bool,
+    ) -> Vec<Piece> {
+        let d = &self.obstacles[a].decomposition;
+        let steps: Vec<usize> = self
+            .bystander_steps(a)
+            .iter()
+            .filter(|s| possible(s))
+            .map(|s| s.step)
+            .collect();
+        let last_far = steps.iter().copied().filter(|&t| t <= d.first_brake).max();
+        steps
+            .into_iter()
+            .filter(|&t| t > d.first_brake || Some(t) == last_far)
+            .flat_map(|t| d.bystander_pieces(t))
+            .collect()
     }
 
     /// Whether some obstacle's firing pieces are merged over shifts (only when it is alone
