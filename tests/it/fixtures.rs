@@ -10,8 +10,11 @@ use safereach::proof::verdict::Verdict;
 
 use crate::common::cli::safereach;
 use crate::common::fixtures::{BLESS, FIXTURES, Fixture, Kind};
-use crate::common::paths::{fixture, load_problem};
+use crate::common::paths::{fixture, load_problem, problem_file};
 use crate::common::tmp;
+use safereach::core::scene::Scene;
+use safereach::proof::scene_certificate::SceneCertificate;
+use safereach::proof::scene_check::check_scene;
 
 /// The exit codes of the command that writes a fixture of `kind`.
 fn exit_codes(kind: &Kind) -> &'static [i32] {
@@ -19,6 +22,9 @@ fn exit_codes(kind: &Kind) -> &'static [i32] {
         Kind::Certificate(Verdict::Certified) => &[0],
         Kind::Certificate(Verdict::Refuted) => &[1],
         Kind::Certificate(Verdict::Inconclusive) => &[3],
+        Kind::SceneCertificate(Verdict::Certified) => &[0],
+        Kind::SceneCertificate(Verdict::Refuted) => &[1],
+        Kind::SceneCertificate(Verdict::Inconclusive) => &[3],
         // 1: some run collided.
         Kind::Trace { .. } => &[0, 1],
     }
@@ -44,6 +50,26 @@ fn same_certificate(f: &Fixture, verdict: Verdict, fresh: &str) {
     assert_eq!(report.verdict, verdict, "{}", f.file);
 }
 
+/// Holds the committed scene certificate `f` to `fresh`, the one written now.
+fn same_scene_certificate(f: &Fixture, verdict: Verdict, fresh: &str) {
+    let fresh: SceneCertificate = serde_json::from_str(fresh).expect("a scene certificate");
+    let committed = f.scene_certificate();
+    assert_eq!(fresh.verdict, verdict, "{}: the analyser's verdict", f.file);
+    assert_eq!(
+        committed.verdict, fresh.verdict,
+        "{}: stale (see {BLESS})",
+        f.file
+    );
+    assert_eq!(
+        committed.scene,
+        Scene::load(&problem_file(f.problem)).expect("loads"),
+        "{}: answers another scene than it names (see {BLESS})",
+        f.file
+    );
+    let report = check_scene(&committed).unwrap_or_else(|e| panic!("{}: rejected: {e}", f.file));
+    assert_eq!(report.verdict, verdict, "{}", f.file);
+}
+
 #[test]
 fn fixtures_are_what_the_current_code_writes() {
     let dir = tmp();
@@ -64,6 +90,7 @@ fn fixtures_are_what_the_current_code_writes() {
         let fresh = std::fs::read_to_string(&written).expect("written");
         match f.kind {
             Kind::Certificate(verdict) => same_certificate(f, verdict, &fresh),
+            Kind::SceneCertificate(verdict) => same_scene_certificate(f, verdict, &fresh),
             Kind::Trace { .. } => assert!(
                 fresh == f.text(),
                 "tests/fixtures/{} differs from what simulate writes now (see {BLESS})",

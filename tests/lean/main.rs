@@ -19,6 +19,8 @@ use safereach::core::num::f64_at_most;
 use safereach::monitor::trace::Format;
 use safereach::monitor::{Check, Event, Monitor, MonitorError, Verdict as Monitored};
 use safereach::proof::certificate::{Certificate, check};
+use safereach::proof::scene_certificate::SceneCertificate;
+use safereach::proof::scene_check::check_scene;
 use safereach::proof::verdict::Verdict;
 
 use common::fixtures::{FIXTURES, Fixture, Kind};
@@ -36,8 +38,71 @@ const FAST_TRACE: &Fixture = &FIXTURES[4];
 fn certificates() -> impl Iterator<Item = (&'static Fixture, Verdict)> {
     FIXTURES.iter().filter_map(|f| match f.kind {
         Kind::Certificate(verdict) => Some((f, verdict)),
-        Kind::Trace { .. } => None,
+        Kind::SceneCertificate(_) | Kind::Trace { .. } => None,
     })
+}
+
+/// The scene certificate fixtures, each with the verdict it was written with.
+fn scene_certificates() -> impl Iterator<Item = (&'static Fixture, Verdict)> {
+    FIXTURES.iter().filter_map(|f| match f.kind {
+        Kind::SceneCertificate(verdict) => Some((f, verdict)),
+        _ => None,
+    })
+}
+
+/// Scene certificates check without the solver; edits without a new digest are named as
+/// such; re-signed edits of an obstacle, its lane or a proof are rejected.
+#[test]
+fn scene_certificates_check_and_reject_tampering_without_the_solver() {
+    let mut seen = 0;
+    for (f, verdict) in scene_certificates() {
+        seen += 1;
+        let cert = f.scene_certificate();
+        let report = check_scene(&cert).unwrap_or_else(|e| panic!("{}: rejected: {e}", f.file));
+        assert_eq!(report.verdict, verdict, "{}", f.file);
+        assert_eq!(report.pieces, cert.pieces(), "{}", f.file);
+        let witness = cert.witness.as_ref().expect("a witness");
+        assert_eq!(witness.collides, verdict == Verdict::Refuted, "{}", f.file);
+        let mut unsigned = cert.clone();
+        unsigned.scene.obstacles[0].max_speed += 0.01;
+        let err = check_scene(&unsigned).expect_err("an edit");
+        assert!(err.0.contains("digest"), "{}: {err}", f.file);
+        let reseal = |mut c: SceneCertificate| {
+            c.digest = c.compute_digest();
+            c
+        };
+        let edits: [(&str, fn(&mut SceneCertificate)); 4] = [
+            ("obstacle faster", |c| {
+                c.scene.obstacles[0].max_speed += 0.05
+            }),
+            ("obstacle nearer", |c| {
+                c.scene.obstacles[0].position =
+                    safereach::core::scene::Position::At(c.scene.obstacles[0].position.min() - 1.0)
+            }),
+            ("obstacle moved to another lane", |c| {
+                c.scene.lanes = vec![0, 1];
+                c.scene.obstacles[0].lane = 1;
+            }),
+            ("a proof's bound raised", |c| {
+                let o = &mut c.obstacles[0];
+                if let Some(p) = o
+                    .own
+                    .iter_mut()
+                    .chain(o.bystanders.iter_mut())
+                    .find(|p| p.bound.is_some())
+                {
+                    *p.bound.as_mut().unwrap() += 1e-6;
+                }
+            }),
+        ];
+        for (what, edit) in edits {
+            let mut forged = cert.clone();
+            edit(&mut forged);
+            let err = check_scene(&reseal(forged)).expect_err(what);
+            assert!(!err.0.contains("digest"), "{}: {what}: {err}", f.file);
+        }
+    }
+    assert_eq!(seen, 2, "the scene certificate fixtures");
 }
 
 fn seed() -> Certificate {

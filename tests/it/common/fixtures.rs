@@ -6,6 +6,7 @@
 //! `SAFEREACH_BLESS_FIXTURES=1 cargo test --release --test it fixtures::` and review the diff.
 
 use safereach::proof::certificate::Certificate;
+use safereach::proof::scene_certificate::SceneCertificate;
 use safereach::proof::verdict::Verdict;
 
 use super::paths::{fixture, problem_file};
@@ -26,6 +27,8 @@ pub struct Fixture {
 pub enum Kind {
     /// `certify … --out <file>`, which gives this verdict.
     Certificate(Verdict),
+    /// `certify <scene> --out <file>`: a scene certificate with this verdict.
+    SceneCertificate(Verdict),
     /// `simulate … --runs <runs> --trace <file>`: the random run that came closest.
     Trace { runs: u32 },
 }
@@ -33,7 +36,9 @@ pub enum Kind {
 /// The seed (certified), an obstacle three times faster than assumed (refuted: the witness
 /// collides), the seed at the boundary of its safe radius (inconclusive: the witness is a
 /// closest approach, the proved bound is not above the clearance); a run of the seed itself
-/// (W = 0.15 m/s, JSON Lines) and one with obstacles up to 0.25 m/s (CSV).
+/// (W = 0.15 m/s, JSON Lines) and one with obstacles up to 0.25 m/s (CSV); two scene
+/// certificates: a destination reached first (certified) and a short sensing range
+/// (refuted).
 pub const FIXTURES: &[Fixture] = &[
     Fixture {
         file: "seed.cert.json",
@@ -69,13 +74,27 @@ pub const FIXTURES: &[Fixture] = &[
         sets: &["environment.obstacle_speed=0.25"],
         kind: Kind::Trace { runs: 200 },
     },
+    Fixture {
+        file: "scene-destination.cert.json",
+        problem: "scene-destination.toml",
+        sets: &[],
+        kind: Kind::SceneCertificate(Verdict::Certified),
+    },
+    Fixture {
+        file: "scene-short-sensing.cert.json",
+        problem: "scene-short-sensing.toml",
+        sets: &[],
+        kind: Kind::SceneCertificate(Verdict::Refuted),
+    },
 ];
 
 impl Fixture {
     /// The arguments of `safereach` that write this fixture into the working directory.
     pub fn args(&self) -> Vec<String> {
         let (command, tail) = match self.kind {
-            Kind::Certificate(_) => ("certify", vec!["--out".into(), self.file.into()]),
+            Kind::Certificate(_) | Kind::SceneCertificate(_) => {
+                ("certify", vec!["--out".into(), self.file.into()])
+            }
             Kind::Trace { runs } => (
                 "simulate",
                 vec![
@@ -102,6 +121,16 @@ impl Fixture {
         serde_json::from_str(&self.text()).unwrap_or_else(|e| {
             panic!(
                 "tests/fixtures/{} is not a certificate ({e}); regenerate it (see {BLESS})",
+                self.file
+            )
+        })
+    }
+
+    /// The fixture, parsed as a scene certificate.
+    pub fn scene_certificate(&self) -> SceneCertificate {
+        serde_json::from_str(&self.text()).unwrap_or_else(|e| {
+            panic!(
+                "tests/fixtures/{} is not a scene certificate ({e}); regenerate it (see {BLESS})",
                 self.file
             )
         })
