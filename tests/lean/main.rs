@@ -50,6 +50,9 @@ fn scene_certificates() -> impl Iterator<Item = (&'static Fixture, Verdict)> {
     })
 }
 
+/// An edit of a scene certificate.
+type SceneEdit = fn(&mut SceneCertificate);
+
 /// Scene certificates check without the solver; edits without a new digest are named as
 /// such; re-signed edits of an obstacle, its lane or a proof are rejected.
 #[test]
@@ -71,7 +74,7 @@ fn scene_certificates_check_and_reject_tampering_without_the_solver() {
             c.digest = c.compute_digest();
             c
         };
-        let edits: [(&str, fn(&mut SceneCertificate)); 4] = [
+        let edits: [(&str, SceneEdit); 4] = [
             ("obstacle faster", |c| {
                 c.scene.obstacles[0].max_speed += 0.05
             }),
