@@ -1,5 +1,6 @@
-//! The smallest certified reaction radius of a scene (without lane changes), by bisection
-//! over the scene analyser's exact verdict.
+//! The smallest certified reaction radius of a scene (without lane changes), and the
+//! largest certified obstacle speed bound, by bisection over the scene analyser's exact
+//! verdict.
 //!
 //! A larger ρ makes every obstacle's guard fire no later, so the robot brakes no later, and
 //! braking earlier never lowers a separation (docs/reductions.md, Lemmas R1, R2 and S2): the
@@ -7,6 +8,9 @@
 //! of an obstacle in the robot's lane a larger ρ changes nothing, and a sensing range R caps
 //! ρ (ρ ≤ R): no radius is answered above either. Every answer is a scene analysis whose
 //! certificate `check` accepts; the one just below is reported beside it.
+//!
+//! Along W the certified bounds form an interval from 0 up too: a larger bound only adds
+//! behaviours (Lemma R3, per obstacle, whichever obstacles the bound is given to).
 
 use crate::analysis::scene::{SceneAnalysis, SceneAnalysisError, analyse_scene};
 use crate::core::scene::Scene;
@@ -101,4 +105,103 @@ pub fn scene_radius(scene: &Scene) -> Result<SceneRadius, SceneAnalysisError> {
         at: best,
         below,
     })
+}
+
+/// The answer of a speed-bound search.
+#[derive(Clone, Debug)]
+pub struct SceneMaxSpeed {
+    /// The largest certified bound found (within [`TOLERANCE`]); None if even 0 is not.
+    pub value: Option<f64>,
+    /// Certified up to the search's ceiling ([`SPEED_CEILING`]): no bound was found.
+    pub unbounded: bool,
+    /// The analysis at `value` (certified), or at 0 when there is none.
+    pub at: SceneAnalysis,
+    /// The analysis just above `value` (not certified).
+    pub above: Option<SceneAnalysis>,
+}
+
+/// The largest bound the speed search tries (m/s).
+pub const SPEED_CEILING: f64 = 100.0;
+
+/// The scene with bound `w` for the moving obstacles `targets` selects.
+fn with_speed(scene: &Scene, targets: &impl Fn(usize) -> bool, w: f64) -> Scene {
+    let mut s = scene.clone();
+    for (i, o) in s.obstacles.iter_mut().enumerate() {
+        if !o.is_static && targets(i) {
+            o.max_speed = w;
+        }
+    }
+    s
+}
+
+/// Searches the largest certified speed bound of the moving obstacles (all of them, or the
+/// one `target` names by index) of a (validated) scene.
+pub fn scene_max_speed(
+    scene: &Scene,
+    target: Option<usize>,
+) -> Result<SceneMaxSpeed, SceneAnalysisError> {
+    let targets = |i: usize| target.is_none_or(|t| t == i);
+    let zero = analyse_scene(&with_speed(scene, &targets, 0.0))?;
+    if zero.verdict != Verdict::Certified {
+        return Ok(SceneMaxSpeed {
+            value: None,
+            unbounded: false,
+            at: zero,
+            above: None,
+        });
+    }
+    // Grow a bracket [lo certified, hi not], then bisect it.
+    let (mut lo, mut best) = (0.0, zero);
+    let mut hi = 0.1;
+    let mut above = loop {
+        let a = analyse_scene(&with_speed(scene, &targets, hi))?;
+        if a.verdict != Verdict::Certified {
+            break a;
+        }
+        (lo, best) = (hi, a);
+        if hi >= SPEED_CEILING {
+            return Ok(SceneMaxSpeed {
+                value: Some(lo),
+                unbounded: true,
+                at: best,
+                above: None,
+            });
+        }
+        hi = (hi * 2.0).min(SPEED_CEILING);
+    };
+    while hi - lo > TOLERANCE {
+        let mid = 0.5 * (lo + hi);
+        let a = analyse_scene(&with_speed(scene, &targets, mid))?;
+        if a.verdict == Verdict::Certified {
+            (lo, best) = (mid, a);
+        } else {
+            (hi, above) = (mid, a);
+        }
+    }
+    Ok(SceneMaxSpeed {
+        value: Some(lo),
+        unbounded: false,
+        at: best,
+        above: Some(above),
+    })
+}
+
+impl SceneMaxSpeed {
+    /// One line for people.
+    pub fn describe(&self) -> String {
+        match (self.value, &self.above) {
+            (Some(v), _) if self.unbounded => {
+                format!("certified up to the search ceiling {v} m/s")
+            }
+            (Some(v), Some(a)) => format!(
+                "max obstacle speed {v:.6} m/s (certified; above it: {})",
+                a.verdict.as_str()
+            ),
+            (Some(v), None) => format!("max obstacle speed {v:.6} m/s (certified)"),
+            (None, _) => format!(
+                "no certified speed bound: even static obstacles give {}",
+                self.at.verdict.as_str()
+            ),
+        }
+    }
 }

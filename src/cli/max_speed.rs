@@ -7,10 +7,12 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 
 use safereach::analysis::radius;
+use safereach::core::scene::Scene;
+use safereach::proof::scene_certificate::SceneCertificate;
 
 use super::boundary::{answer, certificate_text};
 use super::exit::Exit;
-use super::input;
+use super::input::{self, Input};
 use super::output::{Output, write_file};
 
 /// Arguments of `safereach max-speed`.
@@ -27,11 +29,21 @@ pub struct MaxSpeedArgs {
     /// Write the certificate just below the largest certified speed to this file.
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
+    /// In a scene: the obstacle (by name) whose bound is searched; default every moving
+    /// obstacle's, together.
+    #[arg(long, value_name = "NAME")]
+    obstacle: Option<String>,
 }
 
 /// Runs `safereach max-speed`: exit 0 when some speed is certified, 1 otherwise.
 pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
-    let problem = input::problem(&args.problem, &args.sets)?;
+    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(p) => p,
+        Input::Scene(scene) => return scene_max_speed(&scene, &args, out),
+    };
+    if args.obstacle.is_some() {
+        anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");
+    }
     let b = radius::max_speed(&problem).context("max-speed search failed")?;
     if let (Some(path), Some(a)) = (&args.out, &b.certified) {
         write_file(path, certificate_text(a)?.as_bytes())?;
@@ -46,4 +58,44 @@ pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
         writeln!(out, "{}", b.describe(&problem))?;
     }
     Ok(Exit::fail_if(b.value.is_none()))
+}
+
+/// `max-speed` on a scene: the largest bound of every moving obstacle (or the named one)
+/// that is still certified.
+fn scene_max_speed(scene: &Scene, args: &MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
+    let target = match &args.obstacle {
+        Some(name) => Some(
+            scene
+                .obstacles
+                .iter()
+                .position(|o| &o.name == name)
+                .with_context(|| format!("--obstacle {name}: the scene has no such obstacle"))?,
+        ),
+        None => None,
+    };
+    let m = safereach::analysis::scene_radius::scene_max_speed(scene, target)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
+    if let (Some(path), Some(_)) = (&args.out, m.value) {
+        let text = serde_json::to_string_pretty(&SceneCertificate::from_analysis(&m.at))? + "\n";
+        write_file(path, text.as_bytes())?;
+    }
+    let who = match &args.obstacle {
+        Some(name) => format!("\"{name}\""),
+        None => "every moving obstacle".into(),
+    };
+    if args.json {
+        writeln!(
+            out,
+            "{}",
+            serde_json::json!({"obstacle": args.obstacle, "max_speed": m.value, "unbounded": m.unbounded})
+        )?;
+    } else {
+        writeln!(
+            out,
+            "rho = {} m, {who}: {}",
+            scene.controller.reaction_radius,
+            m.describe()
+        )?;
+    }
+    Ok(Exit::fail_if(m.value.is_none()))
 }

@@ -184,3 +184,39 @@ fn scene_radius_matches_the_single_obstacle_radius_and_respects_the_sensing_rang
         "{scene_radius} vs {single_radius}"
     );
 }
+
+#[test]
+fn scene_max_speed_matches_the_single_obstacle_max_speed() {
+    let dir = tmp();
+    let json = |args: &[&str], code: i32| -> serde_json::Value {
+        let out = safereach(dir.path())
+            .args(args)
+            .arg("--json")
+            .assert()
+            .code(code)
+            .get_output()
+            .clone();
+        serde_json::from_str(&stdout(&out)).unwrap()
+    };
+    let seed = crate::common::paths::seed_file();
+    let single = json(&["max-speed", seed.to_str().unwrap()], 0);
+    let single = single["max_obstacle_speed"].as_f64().unwrap();
+    // The short-sensing scene with the seed's radius is the seed problem as a scene.
+    let scene = problem_file("scene-short-sensing.toml");
+    let value = json(
+        &[
+            "max-speed",
+            scene.to_str().unwrap(),
+            "--set",
+            "robot.sensing_range=2",
+            "--set",
+            "controller.reaction_radius=1.4",
+        ],
+        0,
+    );
+    let found = value["max_speed"].as_f64().unwrap();
+    assert!(
+        found <= single + 1e-9 && single - found <= 2e-6,
+        "{found} vs {single}"
+    );
+}
