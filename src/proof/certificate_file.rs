@@ -3,9 +3,9 @@
 
 use serde::Deserialize;
 
-use crate::proof::certificate::{CheckReport, Invalid, check};
 #[cfg(doc)]
 use crate::proof::certificate::FORMAT;
+use crate::proof::certificate::{CheckReport, Invalid, check};
 use crate::proof::scene_certificate::{SCENE_FORMAT, SceneCertificate};
 use crate::proof::scene_check::check_scene;
 use crate::proof::verdict::Verdict;
@@ -32,11 +32,15 @@ impl CertificateFile {
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
         let tag: Tag = serde_json::from_str(text)?;
         if tag.format == SCENE_FORMAT {
-            Ok(CertificateFile::Scene(Box::new(serde_json::from_str(text)?)))
+            Ok(CertificateFile::Scene(Box::new(serde_json::from_str(
+                text,
+            )?)))
         } else {
             // Any other tag is read as a single-obstacle certificate, whose check names a
             // wrong format (it accepts only [`FORMAT`]).
-            Ok(CertificateFile::Single(Box::new(serde_json::from_str(text)?)))
+            Ok(CertificateFile::Single(Box::new(serde_json::from_str(
+                text,
+            )?)))
         }
     }
 
