@@ -121,6 +121,7 @@ use crate::proof::verdict;
 mod check;
 mod event;
 mod field;
+mod lanes;
 mod summary;
 pub mod trace;
 
@@ -129,6 +130,7 @@ pub use check::{Bounds, Check, FailSafe};
 use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
+pub use lanes::Lanes;
 pub use summary::{FailSafeSummary, PremiseSummary, Status, Summary};
 
 /// An obstacle's number: an index into the monitor's table (keep them small and dense).
