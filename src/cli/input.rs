@@ -9,6 +9,7 @@ use anyhow::{Context, Result};
 use safereach::core::model::Problem;
 use safereach::core::scene::Scene;
 use safereach::proof::certificate::Certificate;
+use safereach::proof::certificate_file::CertificateFile;
 
 /// Reads the problem file at `path` and applies `sets` (`dotted.key=value`, in order). The
 /// error names the file, or the override, the key and the reason.
@@ -26,6 +27,21 @@ pub fn scene(path: &Path, sets: &[String]) -> Result<Scene> {
     Ok(Scene::load_with_overrides(path, sets)?)
 }
 
+/// Reads a certificate file of either kind (JSON, as `certify --out` writes it), not
+/// checked.
+pub fn any_certificate(path: &Path, unreadable: Unreadable) -> Result<CertificateFile> {
+    let text = read_certificate(path, unreadable)?;
+    CertificateFile::from_json(&text)
+        .with_context(|| format!("{}: not a safereach certificate", path.display()))
+}
+
+fn read_certificate(path: &Path, unreadable: Unreadable) -> Result<String> {
+    std::fs::read_to_string(path).with_context(|| match unreadable {
+        Unreadable::Reading => format!("reading {}", path.display()),
+        Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
+    })
+}
+
 /// How an unreadable certificate file is named in the error. `check` and
 /// `simulate --replay` have always said `reading FILE: <reason>`, `monitor`
 /// `FILE: cannot read the certificate: <reason>`; the two are kept so that every command's
@@ -41,10 +57,7 @@ pub enum Unreadable {
 /// Reads and parses the certificate at `path` (JSON, as `certify --out` writes it). It is
 /// not checked here: that is `check`'s job, or the caller's.
 pub fn certificate(path: &Path, unreadable: Unreadable) -> Result<Certificate> {
-    let text = std::fs::read_to_string(path).with_context(|| match unreadable {
-        Unreadable::Reading => format!("reading {}", path.display()),
-        Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
-    })?;
+    let text = read_certificate(path, unreadable)?;
     serde_json::from_str(&text)
         .with_context(|| format!("{}: not a safereach certificate", path.display()))
 }
