@@ -45,7 +45,9 @@ fn oncoming(base: &Scene, n: usize) -> Scene {
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let base = Scene::load(&root.join("problems/scene-oncoming.toml")).expect("scene loads");
-    println!("| moving obstacles | verdict | s* (m) | pieces | programs | certify (ms) | ratio to 1 | check (ms) |");
+    println!(
+        "| moving obstacles | verdict | s* (m) | pieces | programs | certify (ms) | ratio to 1 | check (ms) |"
+    );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
     let mut one = None;
     for n in [1, 2, 4, 8, 16] {

@@ -20,6 +20,10 @@
 //! With `--json`, only events (one JSON object per line: `t, obstacle_id, premise, observed,
 //! bound, action`, plus `unit, line, detail`) and a final `{"summary": …}` line are printed.
 //!
+//! The certificate is either kind: a single obstacle's, or a scene's, whose obstacles are
+//! matched to trace obstacle ids by name and checked against their own bounds and lanes
+//! (docs/monitor.md, "Scenes"); its summary adds the scene checks and obstacles.
+//!
 //! Exit codes: 0 every premise held, 1 a violation, 2 the certificate is unusable (unreadable,
 //! fails `check`, or not `certified`), bad arguments, or an I/O error.
 
@@ -32,7 +36,8 @@ use serde::Serialize;
 
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
 use safereach::monitor::{
-    DEFAULT_MAX_OBSTACLES, Detail, Event, Monitor, PremiseSummary, Status, Summary, Verdict,
+    DEFAULT_MAX_OBSTACLES, Detail, Event, Monitor, PremiseSummary, SceneSummary, Status, Summary,
+    Verdict,
 };
 
 use super::exit::Exit;
@@ -42,7 +47,8 @@ use super::output::Output;
 /// Arguments of `safereach monitor`.
 #[derive(clap::Args)]
 pub struct MonitorArgs {
-    /// Certificate (JSON, as written by `certify --out`) whose premises are checked.
+    /// Certificate (JSON, as written by `certify --out`; a single obstacle's or a scene's)
+    /// whose premises are checked.
     #[arg(long, value_name = "CERT")]
     certificate: PathBuf,
     /// Trace to check: a CSV or JSON Lines file, or `-` for standard input (live).
@@ -87,8 +93,8 @@ impl Session {
     /// Reads the certificate (it must pass `check` and be `certified`), parses `--columns`,
     /// settles the format and opens the trace, in that order.
     fn new(args: &MonitorArgs) -> Result<Session> {
-        let cert = input::certificate(&args.certificate, Unreadable::CannotRead)?;
-        let monitor = Monitor::new(&cert)
+        let cert = input::any_certificate(&args.certificate, Unreadable::CannotRead)?;
+        let monitor = Monitor::for_certificate_file(&cert)
             .with_context(|| format!("{}: certificate unusable", args.certificate.display()))?;
         let columns = args
             .columns
@@ -157,7 +163,9 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
             }
             Line::Text(bytes) => match decoder.decode(bytes) {
                 Decoded::Blank | Decoded::Header => continue,
-                Decoded::Sample { sample, t_text } => (Some(t_text), monitor.observe(&sample)),
+                Decoded::Sample { sample, t_text } => {
+                    (Some(t_text), monitor.observe_decoded(&decoder, &sample))
+                }
                 Decoded::Malformed { t, t_text, detail } => (t_text, monitor.malformed(t, detail)),
             },
         };
@@ -352,6 +360,9 @@ struct SummaryJson<'a> {
     first_violation: Option<EventJson<'a>>,
     premises: &'a [PremiseSummary],
     fail_safe: serde_json::Map<String, serde_json::Value>,
+    /// Only under a scene certificate (a single obstacle's summary is as it was).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    scene: Option<&'a SceneSummary>,
 }
 
 /// An obstacle's name as the trace wrote it.
@@ -416,7 +427,6 @@ impl Printer {
         if self.json {
             return summary_json(out, s, first);
         }
-        let plural = |n: u64, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
         let counts = format!(
             "{} ({}, {})",
             plural(s.samples, "sample"),
@@ -465,6 +475,9 @@ impl Printer {
                 p.status.as_str()
             )?;
         }
+        if let Some(scene) = &s.scene {
+            scene_summary(out, scene)?;
+        }
         let fail_safe: Vec<String> = s
             .fail_safe
             .iter()
@@ -490,6 +503,7 @@ fn summary_json(
         violations: s.violations,
         first_violation: first.map(|(e, f)| EventJson::new(e, f.obstacle.as_deref(), f.line)),
         premises: &s.premises,
+        scene: s.scene.as_ref(),
         fail_safe: s
             .fail_safe
             .iter()
@@ -500,6 +514,60 @@ fn summary_json(
     out.write_all(b"\n")
 }
 
+fn plural(n: u64, word: &str) -> String {
+    format!("{n} {word}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The scene part of the text summary: the scene checks as the premises are printed, then
+/// the scene's obstacles (what was assumed of each, whether the trace showed it) and how
+/// many tracked objects matched none.
+fn scene_summary(out: &mut impl Write, scene: &SceneSummary) -> io::Result<()> {
+    writeln!(out, "scene checks:")?;
+    for c in &scene.checks {
+        let count = match c.status {
+            Status::Violated => format!("{} of {}", c.violations, plural(c.checks, "check")),
+            _ => plural(c.checks, "check"),
+        };
+        let bound = match c.bound {
+            Some(b) => format!("bound {b} {}", c.unit),
+            None => "bound each obstacle's lane".to_string(),
+        };
+        let reason = c
+            .reason
+            .as_deref()
+            .map(|r| format!(": {r}"))
+            .unwrap_or_default();
+        writeln!(
+            out,
+            "  {:<21} {:<14} {count:<20} {bound}{reason}",
+            c.check.as_str(),
+            c.status.as_str()
+        )?;
+    }
+    writeln!(
+        out,
+        "scene obstacles (matched to trace obstacle ids by name):"
+    )?;
+    for o in &scene.obstacles {
+        let assumed = if o.is_static {
+            format!("lane {}, static", o.lane)
+        } else {
+            format!("lane {}, W {} m/s", o.lane, o.max_speed)
+        };
+        let seen = match (o.seen, o.violations) {
+            (false, _) => "not seen".to_string(),
+            (true, 0) => "seen".to_string(),
+            (true, n) => format!("seen, {}", plural(n, "violation")),
+        };
+        writeln!(out, "  {:<21} {assumed:<24} {seen}", o.name)?;
+    }
+    writeln!(
+        out,
+        "unmatched objects: {} (checked against the largest moving bound, in any lane)",
+        scene.unmatched
+    )
+}
+
 /// `premise obstacle=ID observed X unit > bound Y unit: detail -> brake`.
 fn describe(out: &mut impl Write, e: &Event, obstacle: Option<&str>) -> io::Result<()> {
     write!(out, "{}", e.check.as_str())?;
@@ -508,6 +576,10 @@ fn describe(out: &mut impl Write, e: &Event, obstacle: Option<&str>) -> io::Resu
     }
     let unit = e.check.unit();
     match (e.observed, e.bound) {
+        // A lane has no unit.
+        (Some(o), Some(b)) if unit.is_empty() => {
+            write!(out, " observed {o} {} bound {b}", e.check.relation())?
+        }
         (Some(o), Some(b)) => write!(
             out,
             " observed {o} {unit} {} bound {b} {unit}",

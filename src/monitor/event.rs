@@ -53,6 +53,8 @@ pub enum Detail {
     BadMode,
     /// `obstacle_id` is neither a string nor an integer.
     BadId,
+    /// A lane column holds something other than an integer.
+    BadLane(Field),
     /// A CSV row with a different number of fields than the header.
     FieldCount {
         /// Fields in the row.
@@ -101,6 +103,7 @@ impl fmt::Display for Detail {
                 f.write_str("robot_mode is not one of idle, accelerate, drive, brake, stop")
             }
             Detail::BadId => f.write_str("obstacle_id is neither a string nor an integer"),
+            Detail::BadLane(field) => write!(f, "{field} is not a lane (an integer)"),
             Detail::FieldCount { found, expected } => {
                 write!(f, "{found} fields, but the header has {expected} columns")
             }

@@ -1,6 +1,9 @@
 //! The columns of a trace: the names a sample's fields have in CSV headers and JSON keys,
 //! shared by the trace reader (which looks them up) and the monitor's input checks (which
 //! name the field that is wrong).
+//!
+//! The lane columns (`robot_lane`, `obstacle_lane`, `leaving_lane`) are those of scene
+//! traces; a trace without them reads as before.
 
 use std::fmt;
 
@@ -23,11 +26,17 @@ pub enum Field {
     ObstacleV,
     /// `obstacle_t`
     ObstacleT,
+    /// `robot_lane` (scene traces)
+    RobotLane,
+    /// `obstacle_lane` (scene traces)
+    ObstacleLane,
+    /// `leaving_lane` (scene traces)
+    LeavingLane,
 }
 
 impl Field {
     /// Every column, required ones first.
-    pub const ALL: [Field; 8] = [
+    pub const ALL: [Field; 11] = [
         Field::T,
         Field::RobotX,
         Field::RobotV,
@@ -36,6 +45,9 @@ impl Field {
         Field::ObstacleV,
         Field::RobotMode,
         Field::ObstacleT,
+        Field::RobotLane,
+        Field::ObstacleLane,
+        Field::LeavingLane,
     ];
 
     /// The column's name in traces.
@@ -49,6 +61,9 @@ impl Field {
             Field::ObstacleX => "obstacle_x",
             Field::ObstacleV => "obstacle_v",
             Field::ObstacleT => "obstacle_t",
+            Field::RobotLane => "robot_lane",
+            Field::ObstacleLane => "obstacle_lane",
+            Field::LeavingLane => "leaving_lane",
         }
     }
 

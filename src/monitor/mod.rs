@@ -103,6 +103,29 @@
 //! After the first violation the verdict stays [`Verdict::Violated`] (the robot may not have
 //! obeyed), but every later violation is still reported.
 //!
+//! # Scene certificates
+//!
+//! [`Monitor::for_scene`] (or [`Monitor::for_certificate_file`], either kind) monitors a
+//! [`SceneCertificate`](crate::proof::scene_certificate::SceneCertificate): it runs
+//! [`check_scene`](crate::proof::scene_check::check_scene), requires `certified`, and checks
+//! the premises per obstacle. A trace obstacle matched to one of the scene's obstacles by
+//! name ([`Monitor::identify`]; [`Monitor::observe_decoded`] does it for text traces) is
+//! checked against that obstacle's own W_i, and must stay in its certified lane
+//! (`obstacle_lane`); a static one must not move at all (`static_obstacle`: its stated speed
+//! and the speed its positions imply, either way, at most what observation noise allows).
+//! Any other tracked object is checked against the scene's largest moving bound (the
+//! premises' W), in any lane. A scene monitor also checks safety itself: `collision`, the
+//! robot moving at a separation ≤ clearance from an obstacle in a lane it occupies. Lanes
+//! come with [`Monitor::observe_in_lanes`] ([`Lanes`]); without them every obstacle counts
+//! as in the robot's lane. A single-obstacle certificate's monitor runs none of these
+//! checks, and its output is as it always was.
+//!
+//! | name | violated when | observed | bound |
+//! | --- | --- | --- | --- |
+//! | `static_obstacle` | a static obstacle's \|speed\| exceeds 2σ/Δt (stated: exactly; estimated: plus rounding) | \|speed\| (m/s) | 2σ/Δt |
+//! | `obstacle_lane` | a named obstacle's `obstacle_lane` differs from its certified lane | lane | certified lane |
+//! | `collision` | `robot_v` > 0 and the separation (the gap, or minus the gap for an obstacle beside or behind when the robot entered its lane) ≤ clearance, less rounding | separation (m) | clearance |
+//!
 //! # Where things are
 //!
 //! The premises are the certificate's typed list,
@@ -121,15 +144,22 @@ use crate::proof::verdict;
 mod check;
 mod event;
 mod field;
+mod lanes;
+mod scene;
 mod summary;
 pub mod trace;
 
 use check::Carried;
-pub use check::{Bounds, Check, FailSafe};
+pub use check::{Bounds, Check, FailSafe, SceneCheck};
 use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
-pub use summary::{FailSafeSummary, PremiseSummary, Status, Summary};
+pub use lanes::Lanes;
+use scene::SceneAssumptions;
+pub use summary::{
+    CertifiedObstacleSummary, FailSafeSummary, PremiseSummary, SceneCheckSummary, SceneSummary,
+    Status, Summary,
+};
 
 /// An obstacle's number: an index into the monitor's table (keep them small and dense).
 pub type ObstacleId = u32;
@@ -140,7 +170,7 @@ pub const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// The table size [`Monitor::new`] allows: obstacle ids must be below this.
 pub const DEFAULT_MAX_OBSTACLES: u32 = 1 << 16;
 
-/// Most events one sample can raise (five can coincide; see [`Monitor::observe`]).
+/// Most events one sample can raise (seven can coincide; see [`Monitor::observe`]).
 pub const MAX_EVENTS_PER_SAMPLE: usize = 8;
 
 /// One line of a trace: the robot and one obstacle at an instant.
@@ -193,6 +223,15 @@ pub enum MonitorError {
     },
 }
 
+/// Refuses a verdict other than `certified`: its premises holding would guarantee nothing.
+fn require_certified(verdict: verdict::Verdict) -> Result<(), MonitorError> {
+    if verdict == verdict::Verdict::Certified {
+        Ok(())
+    } else {
+        Err(MonitorError::NotCertified(verdict))
+    }
+}
+
 impl From<certificate::Invalid> for MonitorError {
     fn from(e: certificate::Invalid) -> Self {
         MonitorError::Invalid(e)
@@ -214,6 +253,13 @@ pub(crate) struct Track {
     obs_t: f64,
     /// Position at its last sample.
     x: f64,
+    /// The scene certificate's obstacle it is (index), once [`Monitor::identify`] matched it.
+    certified: Option<u32>,
+    /// [`Monitor::identify`] has looked its name up.
+    named: bool,
+    /// Whether it was ahead of the robot (gap > 0) when its lane last became one the robot
+    /// occupies (`None`: the robot is not in its lane); the side `collision` measures from.
+    ahead: Option<bool>,
 }
 
 /// The robot's state at the current instant.
@@ -223,12 +269,17 @@ pub(crate) struct RobotAt {
     x: f64,
     v: f64,
     mode: Option<Mode>,
+    /// Its lanes (`robot` and `leaving`), as far as the samples state them.
+    lanes: Lanes,
 }
 
 /// The runtime monitor for one certificate (see the module docs).
 #[derive(Clone, Debug)]
 pub struct Monitor {
     bounds: Bounds,
+    /// What a scene certificate assumed of each of its obstacles (`None`: a single-obstacle
+    /// certificate, monitored exactly as before scenes existed).
+    scene: Option<SceneAssumptions>,
     /// Obstacle ids must be below this.
     max_obstacles: u32,
     obstacles: Vec<Track>,
@@ -283,11 +334,21 @@ impl Monitor {
         reserve: usize,
     ) -> Result<Monitor, MonitorError> {
         let report = certificate::check(cert)?;
-        if report.verdict != verdict::Verdict::Certified {
-            return Err(MonitorError::NotCertified(report.verdict));
-        }
-        Ok(Monitor {
-            bounds: Bounds::from_premises(&cert.premises)?,
+        require_certified(report.verdict)?;
+        let bounds = Bounds::from_premises(&cert.premises)?;
+        Ok(Self::with_bounds(bounds, None, max_obstacles, reserve))
+    }
+
+    /// A monitor for checked bounds (and a scene's assumptions), before any sample.
+    fn with_bounds(
+        bounds: Bounds,
+        scene: Option<SceneAssumptions>,
+        max_obstacles: u32,
+        reserve: usize,
+    ) -> Monitor {
+        Monitor {
+            bounds,
+            scene,
             max_obstacles,
             obstacles: vec![Track::default(); reserve],
             robot: None,
@@ -300,7 +361,7 @@ impl Monitor {
             carried: Carried::default(),
             events: [NO_EVENT; MAX_EVENTS_PER_SAMPLE],
             n_events: 0,
-        })
+        }
     }
 
     /// The bounds being checked.
@@ -361,10 +422,13 @@ impl Monitor {
     fn raise(&mut self, violation: Violation) {
         let event = violation.event(self.samples - 1);
         self.violations[violation.check.index()] += 1;
+        if !violation.check.is_fail_safe() {
+            self.count_for_certified(violation.obstacle_id);
+        }
         if self.first.is_none() {
             self.first = Some(event);
         }
-        // At most five checks can fail on one sample, so this never drops an event.
+        // At most seven checks can fail on one sample, so this never drops an event.
         if let Some(slot) = self.events.get_mut(self.n_events) {
             *slot = event;
             self.n_events += 1;
@@ -390,11 +454,22 @@ impl Monitor {
     /// Checks one sample (see the module docs for the checks and their order: fail-safe
     /// checks first, which reject the sample; then, on the first sample of an instant,
     /// `control_period` between instants and `braking_deceleration`; then the obstacle's
-    /// `first_detection_gap` or its own `control_period`, `latency`, `obstacle_speed`).
+    /// `first_detection_gap` or its own `control_period`, `latency`, `obstacle_speed` — or
+    /// `static_obstacle` for a scene's static obstacle — and under a scene certificate
+    /// `obstacle_lane` and `collision`).
     ///
     /// No I/O, no allocation (except growing the table of [`Monitor::new`] on a new largest
-    /// obstacle id), no panic.
+    /// obstacle id), no panic. The sample states no lanes; see [`Monitor::observe_in_lanes`].
+    #[inline]
     pub fn observe(&mut self, s: &Sample) -> Outcome<'_> {
+        self.observe_in_lanes(s, Lanes::UNKNOWN)
+    }
+
+    /// [`Monitor::observe`] for a sample of a scene trace, which states `lanes`: the robot's
+    /// (part of its state at the instant, like its mode) and the obstacle's. A
+    /// single-obstacle certificate's monitor checks them only for consistency within an
+    /// instant; a scene certificate's uses them in `obstacle_lane` and `collision`.
+    pub fn observe_in_lanes(&mut self, s: &Sample, lanes: Lanes) -> Outcome<'_> {
         self.n_events = 0;
         self.samples += 1;
         // Fail safe: reject what cannot be trusted, before it touches any state.
@@ -403,21 +478,21 @@ impl Monitor {
         };
         match self.robot {
             Some(r) if s.t <= r.t => {
-                if !self.join_instant(s, r, &track) {
+                if !self.join_instant(s, lanes, r, &track) {
                     return self.outcome();
                 }
             }
-            previous => self.start_instant(previous, s),
+            previous => self.start_instant(previous, s, lanes),
         }
         self.carried.mode |= s.robot_mode.is_some();
-        self.check_obstacle(s, &track);
+        self.check_obstacle(s, lanes, &track);
         self.outcome()
     }
 
     /// The first sample of a new instant: the robot's checks over the step from the previous
     /// instant (`control_period`, `braking_deceleration`), then the robot's new state.
     #[inline]
-    fn start_instant(&mut self, previous: Option<RobotAt>, s: &Sample) {
+    fn start_instant(&mut self, previous: Option<RobotAt>, s: &Sample, lanes: Lanes) {
         if let Some(r) = previous {
             self.check_period(r.t, s);
             self.check_braking(&r, s);
@@ -428,13 +503,19 @@ impl Monitor {
             x: s.robot_x,
             v: s.robot_v,
             mode: s.robot_mode,
+            lanes: Lanes {
+                obstacle: None,
+                ..lanes
+            },
         });
     }
 
     /// The obstacle's checks: `first_detection_gap` at its first sighting, else
-    /// `control_period` if it missed an instant; `latency`; `obstacle_speed`. Then its record.
+    /// `control_period` if it missed an instant; `latency`; `obstacle_speed` (or
+    /// `static_obstacle`); under a scene certificate `obstacle_lane` and `collision`. Then its
+    /// record.
     #[inline]
-    fn check_obstacle(&mut self, s: &Sample, track: &Track) {
+    fn check_obstacle(&mut self, s: &Sample, lanes: Lanes, track: &Track) {
         if !track.seen {
             self.distinct_obstacles += 1;
             self.check_first_sighting(s);
@@ -446,11 +527,20 @@ impl Monitor {
             self.carried.observation_time = true;
             self.check_latency(s, obs_t);
         }
-        let keep_reference = self.check_obstacle_speed(s, track);
+        let certified = self.certified(track);
+        let keep_reference = match certified {
+            Some(o) if o.is_static => self.check_static(s, track),
+            _ => self.check_obstacle_speed(s, track, certified),
+        };
+        let ahead = match self.scene {
+            Some(_) => self.check_lanes(s, lanes, track, certified),
+            None => None,
+        };
         let slot = &mut self.obstacles[s.obstacle_id as usize];
         slot.seen = true;
         slot.instant = self.instant;
         slot.t = s.t;
+        slot.ahead = ahead;
         if !keep_reference {
             slot.x = s.obstacle_x;
             slot.has_obs_t = s.obstacle_t.is_some();

@@ -1,11 +1,12 @@
 //! What the monitor saw, at the end of a trace or at any moment: counts, the first
 //! violation, and how every premise fared ([`Status`]: held, violated, not checked, or not
-//! monitored, with the reason).
+//! monitored, with the reason); under a scene certificate also the scene checks and each of
+//! the scene's obstacles ([`SceneSummary`]).
 
 use serde::{Deserialize, Serialize};
 
 use super::check::PremiseCheck;
-use super::{Check, Event, Monitor, Verdict};
+use super::{Check, Event, Monitor, SceneCheck, Verdict};
 use crate::proof::premise::PremiseKind;
 
 /// How a premise fared.
@@ -82,6 +83,62 @@ pub struct Summary {
     pub premises: Vec<PremiseSummary>,
     /// The fail-safe checks on the input.
     pub fail_safe: Vec<FailSafeSummary>,
+    /// Under a scene certificate: the scene checks and the scene's obstacles (absent for a
+    /// single-obstacle certificate, whose summary is as it always was).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene: Option<SceneSummary>,
+}
+
+/// What a scene certificate's monitor adds to the [`Summary`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SceneSummary {
+    /// The scene checks, in [`SceneCheck::ALL`]'s order.
+    pub checks: Vec<SceneCheckSummary>,
+    /// The scene's obstacles, in scene order.
+    pub obstacles: Vec<CertifiedObstacleSummary>,
+    /// Tracked objects seen whose id matches no obstacle of the scene (checked against the
+    /// scene's largest moving bound, in any lane).
+    pub unmatched: u64,
+}
+
+/// One scene check in a [`SceneSummary`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SceneCheckSummary {
+    /// The check.
+    pub check: Check,
+    /// How it fared.
+    pub status: Status,
+    /// Its bound, where it has one: 2σ/dt for `static_obstacle`, the clearance for
+    /// `collision` (`obstacle_lane` compares each obstacle with its own lane).
+    pub bound: Option<f64>,
+    /// The bound's unit.
+    pub unit: String,
+    /// Times it was evaluated.
+    pub checks: u64,
+    /// Times it was violated.
+    pub violations: u64,
+    /// Why it was not checked or not monitored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// One obstacle of the scene in a [`SceneSummary`]: what the certificate assumed of it and
+/// whether the trace showed it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CertifiedObstacleSummary {
+    /// Its name: the trace obstacle id it is matched to.
+    pub name: String,
+    /// Its certified lane.
+    pub lane: i32,
+    /// W_i (m/s).
+    pub max_speed: f64,
+    /// Static: it must not move.
+    #[serde(rename = "static")]
+    pub is_static: bool,
+    /// Some sample had its name as obstacle id.
+    pub seen: bool,
+    /// Premise and scene-check violations by its samples.
+    pub violations: u64,
 }
 
 impl Monitor {
@@ -110,13 +167,68 @@ impl Monitor {
                 .map(|kind| self.premise_summary(kind))
                 .collect(),
             fail_safe,
+            scene: self.scene_summary(),
         }
     }
 
-    /// How premise `kind` fared.
-    fn premise_summary(&self, kind: PremiseKind) -> PremiseSummary {
-        let check = Check::Premise(kind);
-        let row = PremiseCheck::of(kind);
+    /// The scene checks and obstacles, under a scene certificate.
+    fn scene_summary(&self) -> Option<SceneSummary> {
+        let scene = self.scene.as_ref()?;
+        let mut seen = vec![false; scene.obstacles.len()];
+        let mut unmatched = 0;
+        for track in self.obstacles.iter().filter(|t| t.seen) {
+            match track.certified.and_then(|i| seen.get_mut(i as usize)) {
+                Some(s) => *s = true,
+                None => unmatched += 1,
+            }
+        }
+        let obstacles = scene
+            .obstacles
+            .iter()
+            .zip(&scene.names)
+            .zip(seen.into_iter().zip(&scene.violations))
+            .map(
+                |((o, name), (seen, &violations))| CertifiedObstacleSummary {
+                    name: name.clone(),
+                    lane: o.lane,
+                    max_speed: o.max_speed,
+                    is_static: o.is_static,
+                    seen,
+                    violations,
+                },
+            )
+            .collect();
+        let checks = SceneCheck::ALL
+            .into_iter()
+            .map(|c| {
+                let bound = match c {
+                    SceneCheck::StaticObstacle => {
+                        Some(2.0 * self.bounds.observation_noise / self.bounds.control_period)
+                    }
+                    SceneCheck::ObstacleLane => None,
+                    SceneCheck::Collision => Some(scene.clearance),
+                };
+                let (status, checks, violations, reason) = self.status(Check::Scene(c), c.row());
+                SceneCheckSummary {
+                    check: Check::Scene(c),
+                    status,
+                    bound,
+                    unit: c.row().unit.to_string(),
+                    checks,
+                    violations,
+                    reason,
+                }
+            })
+            .collect();
+        Some(SceneSummary {
+            checks,
+            obstacles,
+            unmatched,
+        })
+    }
+
+    /// How `check` (whose row is `row`) fared: status, evaluations, violations, reason.
+    fn status(&self, check: Check, row: &PremiseCheck) -> (Status, u64, u64, Option<String>) {
         let checks = self.checks(check);
         let violations = self.violations(check);
         let (status, reason) = if violations > 0 {
@@ -128,6 +240,13 @@ impl Monitor {
         } else {
             (Status::Held, None)
         };
+        (status, checks, violations, reason)
+    }
+
+    /// How premise `kind` fared.
+    fn premise_summary(&self, kind: PremiseKind) -> PremiseSummary {
+        let check = Check::Premise(kind);
+        let (status, checks, violations, reason) = self.status(check, PremiseCheck::of(kind));
         PremiseSummary {
             premise: check,
             status,

@@ -1,11 +1,11 @@
 //! The fail-safe checks on the input itself: a sample that fails one is reported and
 //! otherwise ignored (it changes no state). Non-finite numbers, obstacle ids beyond the
 //! table, time going backwards, the same obstacle twice at one instant, and a robot state
-//! that differs from the instant's first sample.
+//! (position, speed, mode, lanes) that differs from the instant's first sample.
 
 use super::Check;
 use crate::monitor::event::{Detail, Violation};
-use crate::monitor::{Field, Monitor, RobotAt, Sample, Track};
+use crate::monitor::{Field, Lanes, Monitor, RobotAt, Sample, Track};
 
 /// The first non-finite field of a sample.
 #[inline]
@@ -62,11 +62,13 @@ impl Monitor {
 
     /// A sample at or before the current instant `r`: time going backwards, the obstacle
     /// twice at the instant, or a robot state that differs from the instant's are rejected
-    /// (reported); a robot mode the instant lacked is adopted. Whether it is accepted.
+    /// (reported); a robot mode or lanes the instant lacked are adopted. Whether it is
+    /// accepted.
     #[inline]
     pub(in crate::monitor) fn join_instant(
         &mut self,
         s: &Sample,
+        lanes: Lanes,
         r: RobotAt,
         track: &Track,
     ) -> bool {
@@ -80,15 +82,30 @@ impl Monitor {
             return false;
         }
         let mode_differs = matches!((r.mode, s.robot_mode), (Some(a), Some(m)) if a != m);
-        if r.x != s.robot_x || r.v != s.robot_v || mode_differs {
+        // The robot's lane and the one it is leaving are stated together (`leaving` empty
+        // means no lane change), so they differ only where both samples state them.
+        let lanes_differ = r.lanes.robot.is_some()
+            && lanes.robot.is_some()
+            && (r.lanes.robot, r.lanes.leaving) != (lanes.robot, lanes.leaving);
+        if r.x != s.robot_x || r.v != s.robot_v || mode_differs || lanes_differ {
             self.count(Check::MalformedSample);
             let event = Violation::at(Check::MalformedSample, s);
             self.raise(event.detail(Detail::RobotStateDiffers));
             return false;
         }
-        if r.mode.is_none() && s.robot_mode.is_some() {
+        let adopt_mode = r.mode.is_none() && s.robot_mode.is_some();
+        let adopt_lanes = r.lanes.robot.is_none() && lanes.robot.is_some();
+        if adopt_mode || adopt_lanes {
             self.robot = Some(RobotAt {
-                mode: s.robot_mode,
+                mode: r.mode.or(s.robot_mode),
+                lanes: if adopt_lanes {
+                    Lanes {
+                        obstacle: None,
+                        ..lanes
+                    }
+                } else {
+                    r.lanes
+                },
                 ..r
             });
         }

@@ -1,6 +1,6 @@
 //! The monitor's checks, one idea per file: what it checks ([`Check`]: the certificate's
-//! premises, then the fail-safe checks on the input), the bounds it checks them against
-//! ([`Bounds`]), and how each premise is checked.
+//! premises, the fail-safe checks on the input, and the checks a scene certificate adds),
+//! the bounds it checks them against ([`Bounds`]), and how each premise is checked.
 //!
 //! Every per-check table of the monitor (counters of evaluations and violations, units,
 //! reasons for "not checked" and "not monitored") is indexed by [`Check::index`], which for
@@ -8,11 +8,13 @@
 //! `proof/premise.rs`, its bound in [`Bounds`], and its check here — a [`PremiseCheck`] row
 //! and the function that evaluates it, in the file of its idea:
 //!
-//! - `obstacle.rs`: what the environment does (`obstacle_speed`, `first_detection_gap`,
-//!   `observation_noise`);
+//! - `obstacle.rs`: what the environment does (`obstacle_speed`, per obstacle under a scene
+//!   certificate, `first_detection_gap`, `observation_noise`, and `static_obstacle`);
 //! - `timing.rs`: when the controller runs and what it sees (`control_period`, `latency`);
 //! - `braking.rs`: what the robot does (`braking_deceleration`);
-//! - `input.rs`: the fail-safe checks on the input and the instant a sample belongs to.
+//! - `input.rs`: the fail-safe checks on the input and the instant a sample belongs to;
+//! - `scene.rs`: the checks a scene certificate adds ([`SceneCheck`]), evaluated in
+//!   `obstacle.rs` and `lanes.rs` (`obstacle_lane`, `collision`).
 
 use std::fmt;
 
@@ -23,8 +25,12 @@ use crate::proof::premise::{Premise, PremiseKind};
 
 mod braking;
 mod input;
+mod lanes;
 mod obstacle;
+mod scene;
 mod timing;
+
+pub use scene::SceneCheck;
 
 /// Rounding error of one derived quantity, in units of its operands' magnitude.
 const ROUNDING: f64 = 8.0 * f64::EPSILON;
@@ -68,17 +74,20 @@ impl FailSafe {
     }
 }
 
-/// What the monitor checks: the certificate's premises, then the fail-safe checks on the
-/// input. The names are stable (they appear in output as `premise`).
+/// What the monitor checks: the certificate's premises, the fail-safe checks on the input,
+/// and the checks a scene certificate adds. The names are stable (they appear in output as
+/// `premise`).
 ///
-/// The associated constants (`Check::ObstacleSpeed`, …, `Check::DuplicateSample`) name every
-/// check directly.
+/// The associated constants (`Check::ObstacleSpeed`, …, `Check::Collision`) name every check
+/// directly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Check {
     /// A premise of the certificate.
     Premise(PremiseKind),
     /// A fail-safe check on the input.
     FailSafe(FailSafe),
+    /// A check a scene certificate adds (only a scene certificate's monitor runs them).
+    Scene(SceneCheck),
 }
 
 #[allow(non_upper_case_globals)]
@@ -103,21 +112,31 @@ impl Check {
     pub const TimeBackwards: Check = Check::FailSafe(FailSafe::TimeBackwards);
     /// The same obstacle twice at one instant.
     pub const DuplicateSample: Check = Check::FailSafe(FailSafe::DuplicateSample);
+    /// A static obstacle moved.
+    pub const StaticObstacle: Check = Check::Scene(SceneCheck::StaticObstacle);
+    /// A named obstacle outside its certified lane.
+    pub const ObstacleLane: Check = Check::Scene(SceneCheck::ObstacleLane);
+    /// The robot moved at a separation ≤ clearance from an obstacle of its lane.
+    pub const Collision: Check = Check::Scene(SceneCheck::Collision);
 }
 
 impl Check {
     /// How many checks there are: the size of the monitor's counters.
-    pub const COUNT: usize = PremiseKind::COUNT + FailSafe::ALL.len();
+    pub const COUNT: usize = PremiseKind::COUNT + FailSafe::ALL.len() + SceneCheck::ALL.len();
 
-    /// Every check: the premises in the certificate's order, then the fail-safe ones.
+    /// Every check: the premises in the certificate's order, then the fail-safe ones, then
+    /// the scene checks.
     pub const ALL: [Check; Check::COUNT] = {
+        const FIRST_SCENE: usize = PremiseKind::COUNT + FailSafe::ALL.len();
         let mut all = [Check::MalformedSample; Check::COUNT];
         let mut i = 0;
         while i < Check::COUNT {
             all[i] = if i < PremiseKind::COUNT {
                 Check::Premise(PremiseKind::ALL[i])
-            } else {
+            } else if i < FIRST_SCENE {
                 Check::FailSafe(FailSafe::ALL[i - PremiseKind::COUNT])
+            } else {
+                Check::Scene(SceneCheck::ALL[i - FIRST_SCENE])
             };
             i += 1;
         }
@@ -143,11 +162,16 @@ impl Check {
         Check::DuplicateSample,
     ];
 
+    /// The checks a scene certificate adds.
+    pub const SCENE: [Check; SceneCheck::ALL.len()] =
+        [Check::StaticObstacle, Check::ObstacleLane, Check::Collision];
+
     /// The stable name.
     pub const fn as_str(self) -> &'static str {
         match self {
             Check::Premise(kind) => kind.name(),
             Check::FailSafe(f) => f.name(),
+            Check::Scene(c) => c.name(),
         }
     }
 
@@ -165,7 +189,15 @@ impl Check {
     pub fn premise(self) -> Option<PremiseKind> {
         match self {
             Check::Premise(kind) => Some(kind),
-            Check::FailSafe(_) => None,
+            Check::FailSafe(_) | Check::Scene(_) => None,
+        }
+    }
+
+    /// The scene check, if this is one.
+    pub fn scene(self) -> Option<SceneCheck> {
+        match self {
+            Check::Scene(c) => Some(c),
+            Check::Premise(_) | Check::FailSafe(_) => None,
         }
     }
 
@@ -175,15 +207,18 @@ impl Check {
             Check::Premise(kind) => PremiseCheck::of(kind).unit,
             Check::FailSafe(FailSafe::TimeBackwards | FailSafe::DuplicateSample) => "s",
             Check::FailSafe(FailSafe::MalformedSample | FailSafe::NonFinite) => "",
+            Check::Scene(c) => c.row().unit,
         }
     }
 
-    /// How observed and bound compare when violated: `>` (above the bound) or `<`.
+    /// How observed and bound compare when violated: `>` (above the bound), `<`, `<=`
+    /// (`collision`) or `!=` (`obstacle_lane`).
     pub fn relation(self) -> &'static str {
         match self {
             Check::Premise(kind) => PremiseCheck::of(kind).relation,
             Check::FailSafe(FailSafe::TimeBackwards) => "<",
             Check::FailSafe(_) => ">",
+            Check::Scene(c) => c.row().relation,
         }
     }
 
@@ -193,6 +228,7 @@ impl Check {
         match self {
             Check::Premise(kind) => kind.index(),
             Check::FailSafe(f) => PremiseKind::COUNT + f as usize,
+            Check::Scene(c) => PremiseKind::COUNT + FailSafe::ALL.len() + c as usize,
         }
     }
 }
@@ -230,9 +266,11 @@ pub(crate) struct Carried {
     pub(crate) mode: bool,
     /// Some sample had `obstacle_t`.
     pub(crate) observation_time: bool,
+    /// Some sample had `obstacle_lane`.
+    pub(crate) obstacle_lane: bool,
 }
 
-/// How the monitor treats one premise: its row in the per-premise table.
+/// How the monitor treats one premise (or scene check): its row in the per-check table.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PremiseCheck {
     /// Unit of observed values and the bound in events.

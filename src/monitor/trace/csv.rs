@@ -2,8 +2,8 @@
 //! not) sliced out of a line, and a row read straight into the decoder's [`Raw`] fields,
 //! numbers parsed where they stand.
 
-use super::number::{parse_f64, scan_number};
-use super::{Format, IdAt, Raw, num_slot, strip_bom, trim};
+use super::number::{parse_f64, parse_lane, scan_number};
+use super::{Format, IdAt, Raw, lane_of, num_slot, strip_bom, trim};
 use crate::core::semantics::Mode;
 use crate::monitor::{Detail, Field};
 
@@ -25,6 +25,8 @@ enum Col {
     Mode,
     /// `obstacle_id`.
     Id,
+    /// A lane column (`robot_lane`, `obstacle_lane`, `leaving_lane`).
+    Lane(Field),
     /// A column the monitor does not use.
     Skip,
 }
@@ -71,6 +73,9 @@ impl Columns {
                 None => Col::Skip,
                 Some(Field::RobotMode) => Col::Mode,
                 Some(Field::ObstacleId) => Col::Id,
+                Some(f @ (Field::RobotLane | Field::ObstacleLane | Field::LeavingLane)) => {
+                    Col::Lane(*f)
+                }
                 Some(f) => Col::Number(num_slot(*f).unwrap_or_default() as u8),
             })
             .collect();
@@ -351,6 +356,15 @@ fn read_field<'l>(
 ) -> Result<(), Detail> {
     match action {
         Col::Skip => {}
+        Col::Lane(field) => {
+            let lane = match text {
+                b"" => None,
+                _ => Some(parse_lane(text).ok_or(Detail::BadLane(field))?),
+            };
+            if let Some(slot) = lane_of(field, &mut raw.lanes) {
+                *slot = lane;
+            }
+        }
         Col::Mode => {
             if !text.is_empty() {
                 raw.robot_mode = Some(Mode::from_name(text).ok_or(Detail::BadMode)?);

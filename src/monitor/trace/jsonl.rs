@@ -6,8 +6,8 @@
 //! `-Infinity` as numbers (reported as non-finite), and `null` for a number serde_json could
 //! not write.
 
-use super::number::parse_f64;
-use super::{IdAt, Raw, num_slot};
+use super::number::{parse_f64, parse_lane};
+use super::{IdAt, Raw, lane_of, num_slot};
 use crate::core::semantics::Mode;
 use crate::monitor::{Detail, Field};
 
@@ -267,6 +267,20 @@ fn json_field<'l>(
                 return Err(Detail::BadId);
             }
         },
+        Field::RobotLane | Field::ObstacleLane | Field::LeavingLane => {
+            if j.peek() == Some(b'"') {
+                let _ = j.string();
+                return Err(Detail::BadLane(field));
+            }
+            let text = j.token();
+            let lane = match text {
+                b"null" => None,
+                _ => Some(parse_lane(text).ok_or(Detail::BadLane(field))?),
+            };
+            if let Some(slot) = lane_of(field, &mut raw.lanes) {
+                *slot = lane;
+            }
+        }
         Field::RobotMode => match j.peek() {
             Some(b'"') => {
                 let (text, _, _) = j.string()?;

@@ -19,7 +19,9 @@
 //! obstacle_x` required; `obstacle_v, robot_mode, obstacle_t` optional (absent columns, and
 //! empty cells, mean "not observed"); other columns are ignored. Fields may be quoted (`"a,b"`,
 //! `""` for a quote); spaces around fields are ignored; every row has as many fields as the
-//! header. `robot_mode` is one of `idle, accelerate, drive, brake, stop` (any case).
+//! header. `robot_mode` is one of `idle, accelerate, drive, brake, stop` (any case). The
+//! lane columns of scene traces, `robot_lane, obstacle_lane, leaving_lane`, are optional
+//! integers (empty: not stated); their values come with [`Decoder::lanes`].
 //!
 //! **JSON Lines**: one object per line with the same keys; `obstacle_id` a string or an
 //! integer (`3` and `"3"` are the same obstacle); `null` in an optional key means absent, in a
@@ -29,7 +31,7 @@
 //!
 //! Blank lines are skipped (they are not samples).
 
-use super::{Detail, Field, Sample};
+use super::{Detail, Field, Lanes, Sample};
 use crate::core::semantics::Mode;
 
 mod csv;
@@ -121,6 +123,8 @@ pub struct Decoder {
     key: Vec<u8>,
     /// The last text and value of `t`, `robot_x`, `robot_v`.
     repeat: [Repeat; 3],
+    /// The lanes of the last sample.
+    lanes: Lanes,
 }
 
 /// The fields of a line as read, before validation.
@@ -131,6 +135,7 @@ struct Raw<'l> {
     t_text: Option<&'l [u8]>,
     robot_mode: Option<Mode>,
     id: Option<IdAt>,
+    lanes: Lanes,
 }
 
 /// Where a number field is kept in [`Raw`]; `t`, `robot_x`, `robot_v` first (they index
@@ -144,7 +149,22 @@ fn num_slot(field: Field) -> Option<usize> {
         Field::ObstacleX => Some(3),
         Field::ObstacleV => Some(4),
         Field::ObstacleT => Some(5),
-        Field::RobotMode | Field::ObstacleId => None,
+        Field::RobotMode
+        | Field::ObstacleId
+        | Field::RobotLane
+        | Field::ObstacleLane
+        | Field::LeavingLane => None,
+    }
+}
+
+/// Where a lane column is kept in [`Lanes`]: `None` for the other columns.
+#[inline]
+fn lane_of(field: Field, lanes: &mut Lanes) -> Option<&mut Option<i32>> {
+    match field {
+        Field::RobotLane => Some(&mut lanes.robot),
+        Field::ObstacleLane => Some(&mut lanes.obstacle),
+        Field::LeavingLane => Some(&mut lanes.leaving),
+        _ => None,
     }
 }
 
@@ -162,6 +182,7 @@ impl<'l> Raw<'l> {
         t_text: None,
         robot_mode: None,
         id: None,
+        lanes: Lanes::UNKNOWN,
     };
 
     #[inline]
@@ -205,6 +226,7 @@ impl Decoder {
             id_buf: Vec::new(),
             key: Vec::new(),
             repeat: [Repeat::default(); 3],
+            lanes: Lanes::UNKNOWN,
         }
     }
 
@@ -224,6 +246,13 @@ impl Decoder {
     /// The obstacle ids seen so far.
     pub fn ids(&self) -> &Ids {
         &self.ids
+    }
+
+    /// The lanes of the sample [`Decoder::decode`] last returned (scene traces; all `None`
+    /// when the trace has no lane columns or the cells are empty). Hand them to
+    /// [`Monitor::observe_in_lanes`](super::Monitor::observe_in_lanes) with the sample.
+    pub fn lanes(&self) -> Lanes {
+        self.lanes
     }
 
     /// Decodes one line (without its line break; a trailing `\r` is ignored).
@@ -299,6 +328,7 @@ impl Decoder {
             let limit = self.ids.limit;
             return raw.malformed(Detail::TooManyObstacles { limit });
         };
+        self.lanes = raw.lanes;
         Decoded::Sample {
             sample: Sample {
                 t: raw.num[0],

@@ -25,6 +25,13 @@ pub fn parse_f64(s: &[u8]) -> Option<f64> {
     lexical_core::parse::<f64>(trim(s)).ok()
 }
 
+/// Parses a lane number: an optional sign and decimal digits that fit an `i32`. Surrounding
+/// spaces are ignored. `None` if it is not one (a lane is an integer, not `1.0`).
+#[inline]
+pub(super) fn parse_lane(s: &[u8]) -> Option<i32> {
+    std::str::from_utf8(trim(s)).ok()?.parse().ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -68,6 +75,16 @@ mod tests {
         assert!(parse_f64(b"NaN").unwrap().is_nan());
         assert_eq!(parse_f64(b"-inf"), Some(f64::NEG_INFINITY));
         assert_eq!(parse_f64(b" 2.5 "), Some(2.5));
+    }
+
+    #[test]
+    fn lanes_are_integers() {
+        for (text, lane) in [("0", 0), ("-1", -1), ("+2", 2), (" 3 ", 3)] {
+            assert_eq!(parse_lane(text.as_bytes()), Some(lane), "{text}");
+        }
+        for bad in ["", "1.0", "1e0", "one", "--1", "2147483648"] {
+            assert_eq!(parse_lane(bad.as_bytes()), None, "{bad}");
+        }
     }
 
     #[test]

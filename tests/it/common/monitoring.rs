@@ -1,5 +1,6 @@
 //! Feeding the text of a trace to a monitor the way `safereach monitor` does: line by line
-//! through the trace reader, malformed lines reported to the monitor.
+//! through the trace reader (obstacle ids matched by name and lanes read under a scene
+//! certificate), malformed lines reported to the monitor.
 
 use safereach::monitor::trace::{Decoded, Decoder, Format};
 use safereach::monitor::{Event, Monitor};
@@ -12,7 +13,7 @@ pub fn text_events(monitor: &mut Monitor, text: &str, format: Option<Format>) ->
         match decoder.decode(line.as_bytes()) {
             Decoded::Blank | Decoded::Header => {}
             Decoded::Sample { sample, .. } => {
-                all.extend_from_slice(monitor.observe(&sample).events)
+                all.extend_from_slice(monitor.observe_decoded(&decoder, &sample).events)
             }
             Decoded::Malformed { t, detail, .. } => {
                 all.extend_from_slice(monitor.malformed(t, detail).events)
