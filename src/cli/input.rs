@@ -65,21 +65,6 @@ fn read_certificate(path: &Path, unreadable: Unreadable) -> Result<String> {
     })
 }
 
-/// Reads a certificate file of either kind (JSON, as `certify --out` writes it), not
-/// checked.
-pub fn any_certificate(path: &Path, unreadable: Unreadable) -> Result<CertificateFile> {
-    let text = read_certificate(path, unreadable)?;
-    CertificateFile::from_json(&text)
-        .with_context(|| format!("{}: not a safereach certificate", path.display()))
-}
-
-fn read_certificate(path: &Path, unreadable: Unreadable) -> Result<String> {
-    std::fs::read_to_string(path).with_context(|| match unreadable {
-        Unreadable::Reading => format!("reading {}", path.display()),
-        Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
-    })
-}
-
 /// How an unreadable certificate file is named in the error. `check` and
 /// `simulate --replay` have always said `reading FILE: <reason>`, `monitor`
 /// `FILE: cannot read the certificate: <reason>`; the two are kept so that every command's
