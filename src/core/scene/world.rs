@@ -185,6 +185,20 @@ impl<N: Scalar> SceneWorld<N> {
         &self.tracks[i].gap
     }
 
+    /// Obstacle i's remembered past, oldest first: the gaps at the starts of the last
+    /// periods and its speeds over them (at most L+1 of each; later observations are read
+    /// from them). An explorer keys its states on them.
+    pub fn history(&self, i: usize) -> (&VecDeque<N>, &VecDeque<N>) {
+        let track = &self.tracks[i];
+        (&track.gaps, &track.speeds)
+    }
+
+    /// The side of the robot's occupancy interval of obstacle i's lane as of the last period
+    /// (None: the robot did not occupy that lane in it, or no period has run yet).
+    pub fn side(&self, i: usize) -> Option<Side> {
+        self.tracks[i].side
+    }
+
     /// Whether the robot has come to rest for good.
     pub fn stopped(&self) -> bool {
         self.robot.mode == Mode::Stop
