@@ -20,10 +20,42 @@ pub fn problem(path: &Path, sets: &[String]) -> Result<Problem> {
 /// `sets` (`dotted.key=value`, in order; an obstacle's keys as `obstacle.<index>.<key>`). The
 /// error names the file, or the override, the key (an obstacle's by index and name) and the
 /// reason.
-// No subcommand reads scenes yet; they move over one by one.
-#[allow(dead_code)]
 pub fn scene(path: &Path, sets: &[String]) -> Result<Scene> {
     Ok(Scene::load_with_overrides(path, sets)?)
+}
+
+/// What a command that takes either reads: a single-obstacle problem, or a scene.
+pub enum ProblemOrScene {
+    /// A problem file (with `[environment]`), read by [`problem`].
+    Problem(Problem),
+    /// Any other scene file, read by [`scene`].
+    Scene(Scene),
+}
+
+/// Reads `path` as a single-obstacle problem when it reads as one ([`problem`], so old files
+/// give exactly what they gave), else as a scene ([`scene`]). When neither reads, the error
+/// is the problem reader's for a file in the problem form (with `[environment]`; or not
+/// readable, or not TOML at all: the messages are the same then) and the scene reader's
+/// otherwise.
+pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<ProblemOrScene> {
+    let problem_error = match problem(path, sets) {
+        Ok(p) => return Ok(ProblemOrScene::Problem(p)),
+        Err(e) => e,
+    };
+    match scene(path, sets) {
+        Ok(s) => Ok(ProblemOrScene::Scene(s)),
+        Err(_) if problem_form(path) => Err(problem_error),
+        Err(scene_error) => Err(scene_error),
+    }
+}
+
+/// Whether the file at `path` is in the problem form: it has `[environment]`, or it cannot
+/// be read as a TOML table at all.
+fn problem_form(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| text.parse::<toml::Table>().ok())
+        .is_none_or(|table| table.contains_key("environment"))
 }
 
 /// How an unreadable certificate file is named in the error. `check` and
