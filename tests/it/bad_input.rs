@@ -547,7 +547,11 @@ fn shipped_problems() -> Vec<PathBuf> {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .filter(|p| !p.to_string_lossy().ends_with("-grid.toml"))
         // Scene files (tests/it/scene_input.rs reads them) have no [environment].
-        .filter(|p| std::fs::read_to_string(p).unwrap().contains("[environment]"))
+        .filter(|p| {
+            std::fs::read_to_string(p)
+                .unwrap()
+                .contains("[environment]")
+        })
         .collect();
     paths.sort();
     paths

@@ -19,6 +19,7 @@ mod monitor;
 mod monitor_cli;
 mod radius;
 mod scene_analysis;
+mod scene_explore;
 mod scene_input;
 mod sweep;
 mod uppaal;
