@@ -8,6 +8,7 @@
 //! same decisions and the same numbers as `World::step` (a test holds them equal).
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 use crate::core::num::Scalar;
 use crate::core::semantics::{BrakeReason, Mode, Motion, Observation, RobotState, robot_motion};
@@ -118,7 +119,9 @@ impl<N: Scalar> Track<N> {
 /// The robot and a scene's obstacles under the scene semantics.
 #[derive(Clone, Debug)]
 pub struct SceneWorld<N> {
-    params: SceneParams<N>,
+    /// Shared by every clone: an explorer clones worlds by the million, and the
+    /// parameters never change.
+    params: Arc<SceneParams<N>>,
     k: usize,
     robot: RobotState<N>,
     lateral: Lateral,
@@ -155,7 +158,7 @@ impl<N: Scalar> SceneWorld<N> {
                     side: None,
                 })
                 .collect(),
-            params,
+            params: Arc::new(params),
         }
     }
 
