@@ -19,6 +19,7 @@ use safereach::core::num::Exact;
 use safereach::core::output::trace_csv;
 use safereach::core::semantics::Mode;
 use safereach::core::simulate::TraceRow;
+use safereach::crosscheck::explore::scene::DEFAULT_SCENE_MAX_STATES;
 use safereach::crosscheck::explore::{
     self, Exploration, ExploreVerdict, Options, SpeedSet, show_exact,
 };
@@ -44,9 +45,10 @@ pub struct ExploreArgs {
     /// [0, W_i], a list adds its levels to {0, W_i} where they fit (default {0, W_i}).
     #[arg(long, value_name = "N|LIST")]
     speeds: Option<String>,
-    /// Stop with `inconclusive` after this many distinct states (bounds memory).
-    #[arg(long, value_name = "N", default_value_t = explore::DEFAULT_MAX_STATES)]
-    max_states: usize,
+    /// Stop with `inconclusive` after this many distinct states (bounds memory; default
+    /// 2000000 for a problem, 600000 for a scene: under 1 GB either way).
+    #[arg(long, value_name = "N")]
+    max_states: Option<usize>,
     /// Print JSON (verdict, states, min_separation, path, ...).
     #[arg(long)]
     json: bool,
@@ -82,7 +84,7 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
                 );
             }
             let options = Options {
-                max_states: args.max_states,
+                max_states: args.max_states.unwrap_or(DEFAULT_SCENE_MAX_STATES),
             };
             return explore_scene::run(
                 &scene,
@@ -96,7 +98,7 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
     };
     let speeds = speed_set(&problem, args.speeds.as_deref().unwrap_or(DEFAULT_SPEEDS))?;
     let options = Options {
-        max_states: args.max_states,
+        max_states: args.max_states.unwrap_or(explore::DEFAULT_MAX_STATES),
     };
     if args.grid {
         if args.trace.is_some() {

@@ -111,3 +111,7 @@ pub use search::{
     ObstacleExploration, SceneExploration, ScenePath, explore_scene, explore_scene_model,
 };
 pub use speeds::SceneSpeeds;
+
+/// Default state budget for scenes: under 1 GB of memory at the measured 1.15 KB per state
+/// (problems/scene-oncoming.toml: keys, and the worlds still to expand).
+pub const DEFAULT_SCENE_MAX_STATES: usize = 600_000;
