@@ -1,7 +1,9 @@
 //! `safereach explore`: exhaustive breadth-first exploration of the finite model, where the
 //! obstacle picks its speed each period from a finite set — an independent check of
 //! `certify` that needs no solver. With `--grid`, the exported UPPAAL network is explored on
-//! its integer grid instead (what UPPAAL would answer for `export-uppaal`).
+//! its integer grid instead (what UPPAAL would answer for `export-uppaal`). A scene file
+//! (anything that does not read as a single-obstacle problem) is explored as a scene, every
+//! obstacle with its own speed set ([`super::explore_scene`]).
 //!
 //! Exit codes: 0 safe, 1 collision, 3 inconclusive (state budget reached), 2 bad input or an
 //! internal error.
@@ -17,30 +19,36 @@ use safereach::core::num::Exact;
 use safereach::core::output::trace_csv;
 use safereach::core::semantics::Mode;
 use safereach::core::simulate::TraceRow;
+use safereach::crosscheck::explore::scene::DEFAULT_SCENE_MAX_STATES;
 use safereach::crosscheck::explore::{
     self, Exploration, ExploreVerdict, Options, SpeedSet, show_exact,
 };
 use safereach::crosscheck::uppaal::{self, GridExploration};
 
 use super::exit::Exit;
-use super::input;
+use super::explore_scene;
+use super::input::{self, Input};
 use super::output::{Output, write_file};
 
 /// Arguments of `safereach explore`, as typed.
 #[derive(clap::Args)]
 pub struct ExploreArgs {
-    /// Problem file (TOML).
+    /// Problem or scene file (TOML).
     problem: PathBuf,
-    /// Override a key, e.g. `environment.obstacle_speed=0.25` (repeatable).
+    /// Override a key, e.g. `environment.obstacle_speed=0.25` or `obstacle.0.max_speed=0.2`
+    /// (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Obstacle speeds per period: a count N (N evenly spaced speeds 0, W/(N-1), ..., W)
-    /// or a comma-separated list in m/s (`0,0.05,0.15`; fractions like `3/80` too).
-    #[arg(long, value_name = "N|LIST", default_value = "5")]
-    speeds: String,
-    /// Stop with `inconclusive` after this many distinct states (bounds memory).
-    #[arg(long, value_name = "N", default_value_t = explore::DEFAULT_MAX_STATES)]
-    max_states: usize,
+    /// Obstacle speeds per period: a count N (N evenly spaced speeds 0, W/(N-1), ..., W;
+    /// default 5) or a comma-separated list in m/s (`0,0.05,0.15`; fractions like `3/80`
+    /// too). For a scene, every obstacle i has its own set: a count N spaces N speeds over
+    /// [0, W_i], a list adds its levels to {0, W_i} where they fit (default {0, W_i}).
+    #[arg(long, value_name = "N|LIST")]
+    speeds: Option<String>,
+    /// Stop with `inconclusive` after this many distinct states (bounds memory; default
+    /// 2000000 for a problem, 600000 for a scene: under 1 GB either way).
+    #[arg(long, value_name = "N")]
+    max_states: Option<usize>,
     /// Print JSON (verdict, states, min_separation, path, ...).
     #[arg(long)]
     json: bool,
@@ -60,12 +68,37 @@ pub fn speed_set(problem: &Problem, speeds: &str) -> Result<SpeedSet> {
     Ok(SpeedSet::parse(speeds, &w)?)
 }
 
+/// The single-obstacle explorer's default `--speeds`.
+const DEFAULT_SPEEDS: &str = "5";
+
 /// Runs `safereach explore`: exit 0 safe, 1 collision, 3 inconclusive.
 pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
-    let problem = input::problem(&args.problem, &args.sets)?;
-    let speeds = speed_set(&problem, &args.speeds)?;
+    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(problem) => problem,
+        Input::Scene(scene) => {
+            if args.grid {
+                anyhow::bail!(
+                    "--grid explores the UPPAAL network of a single-obstacle problem; {} is a \
+                     scene",
+                    args.problem.display()
+                );
+            }
+            let options = Options {
+                max_states: args.max_states.unwrap_or(DEFAULT_SCENE_MAX_STATES),
+            };
+            return explore_scene::run(
+                &scene,
+                args.speeds.as_deref(),
+                &options,
+                args.json,
+                args.trace.as_deref(),
+                out,
+            );
+        }
+    };
+    let speeds = speed_set(&problem, args.speeds.as_deref().unwrap_or(DEFAULT_SPEEDS))?;
     let options = Options {
-        max_states: args.max_states,
+        max_states: args.max_states.unwrap_or(explore::DEFAULT_MAX_STATES),
     };
     if args.grid {
         if args.trace.is_some() {

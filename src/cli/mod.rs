@@ -16,6 +16,7 @@ mod certify;
 mod check;
 mod exit;
 mod explore;
+mod explore_scene;
 mod export_uppaal;
 mod input;
 mod max_speed;
@@ -60,7 +61,7 @@ enum Command {
     Report(report::ReportArgs),
     /// Check live traces against a certificate's premises (exit 0 held, 1 violated, 2 unusable certificate or I/O error).
     Monitor(monitor::MonitorArgs),
-    /// Exhaustive breadth-first exploration of the finite model (obstacle speeds from a finite set).
+    /// Exhaustive breadth-first exploration of the finite model (obstacle speeds from finite sets; problems and scenes).
     Explore(explore::ExploreArgs),
     /// Export the finite model as UPPAAL timed automata (XML) plus the safety query (.q).
     ExportUppaal(export_uppaal::ExportUppaalArgs),

@@ -106,6 +106,12 @@ impl<A: Copy> Reached<A> {
     /// The actions of the path by which `node` was first reached, from its init state: a
     /// shortest one.
     pub(crate) fn path_to(&self, node: NodeId) -> Vec<A> {
+        self.rooted_path_to(node).1
+    }
+
+    /// As [`Reached::path_to`], with the id of the init state the path starts from (init
+    /// states are numbered in the order given, repeated keys left out).
+    pub(crate) fn rooted_path_to(&self, node: NodeId) -> (NodeId, Vec<A>) {
         let mut actions = Vec::new();
         let mut id = node as usize;
         while id >= self.roots {
@@ -114,7 +120,7 @@ impl<A: Copy> Reached<A> {
             id = parent as usize;
         }
         actions.reverse();
-        actions
+        (id as NodeId, actions)
     }
 }
 

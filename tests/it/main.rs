@@ -21,6 +21,7 @@ mod monitor_scene;
 mod radius;
 mod scene_analysis;
 mod scene_cli;
+mod scene_explore;
 mod scene_input;
 mod sweep;
 mod uppaal;

@@ -255,10 +255,46 @@ pub fn replay(
     max_steps: usize,
     stop_at_collision: bool,
 ) -> SceneReplay {
+    replay_with(
+        params,
+        |i, k| exact_speed(params, speeds, i, k),
+        starts,
+        max_steps,
+        stop_at_collision,
+    )
+}
+
+/// As [`replay`], for speeds given as exact numbers (`speeds[i][k]`, W_i after the last):
+/// speeds that no float is, such as an explorer's W/3.
+pub fn replay_exact_speeds(
+    params: &SceneParams<Exact>,
+    speeds: &[Vec<Exact>],
+    starts: &[Exact],
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> SceneReplay {
+    let speed = |i: usize, k: usize| {
+        speeds
+            .get(i)
+            .and_then(|s| s.get(k))
+            .cloned()
+            .unwrap_or_else(|| params.obstacles[i].max_speed.clone())
+    };
+    replay_with(params, speed, starts, max_steps, stop_at_collision)
+}
+
+/// A replay in `Rational` numbers with obstacle i's speed in period k from `speed(i, k)`.
+fn replay_with(
+    params: &SceneParams<Exact>,
+    speed: impl Fn(usize, usize) -> Exact,
+    starts: &[Exact],
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> SceneReplay {
     let fast: SceneParams<Rational> = params.map(Rational::from_exact);
     let run = run(
         fast.clone(),
-        |i, k| Rational::from_exact(&exact_speed(params, speeds, i, k)),
+        |i, k| Rational::from_exact(&speed(i, k)),
         starts.iter().map(Rational::from_exact).collect(),
         max_steps,
         stop_at_collision,

@@ -8,6 +8,7 @@
 //! same decisions and the same numbers as `World::step` (a test holds them equal).
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 use crate::core::num::Scalar;
 use crate::core::semantics::{BrakeReason, Mode, Motion, Observation, RobotState, robot_motion};
@@ -118,7 +119,9 @@ impl<N: Scalar> Track<N> {
 /// The robot and a scene's obstacles under the scene semantics.
 #[derive(Clone, Debug)]
 pub struct SceneWorld<N> {
-    params: SceneParams<N>,
+    /// Shared by every clone: an explorer clones worlds by the million, and the
+    /// parameters never change.
+    params: Arc<SceneParams<N>>,
     k: usize,
     robot: RobotState<N>,
     lateral: Lateral,
@@ -155,7 +158,7 @@ impl<N: Scalar> SceneWorld<N> {
                     side: None,
                 })
                 .collect(),
-            params,
+            params: Arc::new(params),
         }
     }
 
@@ -183,6 +186,20 @@ impl<N: Scalar> SceneWorld<N> {
     /// Obstacle i's gap now.
     pub fn gap(&self, i: usize) -> &N {
         &self.tracks[i].gap
+    }
+
+    /// Obstacle i's remembered past, oldest first: the gaps at the starts of the last
+    /// periods and its speeds over them (at most L+1 of each; later observations are read
+    /// from them). An explorer keys its states on them.
+    pub fn history(&self, i: usize) -> (&VecDeque<N>, &VecDeque<N>) {
+        let track = &self.tracks[i];
+        (&track.gaps, &track.speeds)
+    }
+
+    /// The side of the robot's occupancy interval of obstacle i's lane as of the last period
+    /// (None: the robot did not occupy that lane in it, or no period has run yet).
+    pub fn side(&self, i: usize) -> Option<Side> {
+        self.tracks[i].side
     }
 
     /// Whether the robot has come to rest for good.

@@ -82,7 +82,8 @@
 //! - `speeds`: the finite speed set (the actions) and how `--speeds` is read;
 //! - `model`: the states, their exact keys and the finite model's transitions;
 //! - `search`: the breadth-first search over the model (one search for this layer,
-//!   `crosscheck::bfs`), what it watches, and the paths it replays.
+//!   `crosscheck::bfs`), what it watches, and the paths it replays;
+//! - [`scene`]: the same for scenes (several obstacles, lanes, lane changes, a goal).
 //!
 //! [`World::step`]: crate::core::semantics::World::step
 //! [`World::new`]: crate::core::semantics::World::new
@@ -92,6 +93,7 @@
 use serde::{Deserialize, Serialize};
 
 mod model;
+pub mod scene;
 mod search;
 mod speeds;
 

@@ -119,7 +119,7 @@ impl fmt::Display for SpeedSet {
     }
 }
 
-fn parse_speed(item: &str) -> Result<Exact, String> {
+pub(super) fn parse_speed(item: &str) -> Result<Exact, String> {
     if let Some((num, den)) = item.split_once('/') {
         let n: Exact = num
             .trim()
