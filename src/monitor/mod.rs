@@ -253,13 +253,22 @@ pub(crate) struct Track {
     obs_t: f64,
     /// Position at its last sample.
     x: f64,
-    /// The scene certificate's obstacle it is (index), once [`Monitor::identify`] matched it.
-    certified: Option<u32>,
+    /// The scene certificate's obstacle it is, once [`Monitor::identify`] matched it: its
+    /// index + 1 (non-zero, so that the record stays as small as before scenes).
+    certified: Option<std::num::NonZeroU32>,
     /// [`Monitor::identify`] has looked its name up.
     named: bool,
     /// Whether it was ahead of the robot (gap > 0) when its lane last became one the robot
     /// occupies (`None`: the robot is not in its lane); the side `collision` measures from.
     ahead: Option<bool>,
+}
+
+impl Track {
+    /// Index of the scene obstacle it was matched to.
+    #[inline]
+    pub(crate) fn certified_index(&self) -> Option<usize> {
+        self.certified.map(|i| i.get() as usize - 1)
+    }
 }
 
 /// The robot's state at the current instant.
@@ -269,8 +278,6 @@ pub(crate) struct RobotAt {
     x: f64,
     v: f64,
     mode: Option<Mode>,
-    /// Its lanes (`robot` and `leaving`), as far as the samples state them.
-    lanes: Lanes,
 }
 
 /// The runtime monitor for one certificate (see the module docs).
@@ -285,6 +292,9 @@ pub struct Monitor {
     obstacles: Vec<Track>,
     /// The current instant, once there is one.
     robot: Option<RobotAt>,
+    /// The robot's lanes at the current instant (`robot`, `leaving`), as far as its samples
+    /// state them; kept by a scene certificate's monitor only.
+    robot_lanes: Lanes,
     /// Number of the current instant (0-based).
     instant: u64,
     samples: u64,
@@ -352,6 +362,7 @@ impl Monitor {
             max_obstacles,
             obstacles: vec![Track::default(); reserve],
             robot: None,
+            robot_lanes: Lanes::UNKNOWN,
             instant: 0,
             samples: 0,
             distinct_obstacles: 0,
@@ -460,16 +471,32 @@ impl Monitor {
     ///
     /// No I/O, no allocation (except growing the table of [`Monitor::new`] on a new largest
     /// obstacle id), no panic. The sample states no lanes; see [`Monitor::observe_in_lanes`].
-    #[inline]
     pub fn observe(&mut self, s: &Sample) -> Outcome<'_> {
-        self.observe_in_lanes(s, Lanes::UNKNOWN)
+        if self.scene.is_some() {
+            self.observe_with::<true>(s, Lanes::UNKNOWN)
+        } else {
+            self.observe_with::<false>(s, Lanes::UNKNOWN)
+        }
     }
 
     /// [`Monitor::observe`] for a sample of a scene trace, which states `lanes`: the robot's
-    /// (part of its state at the instant, like its mode) and the obstacle's. A
-    /// single-obstacle certificate's monitor checks them only for consistency within an
-    /// instant; a scene certificate's uses them in `obstacle_lane` and `collision`.
+    /// (part of its state at the instant, like its mode) and the obstacle's. A scene
+    /// certificate's monitor uses them in `obstacle_lane` and `collision`, and rejects a
+    /// sample whose robot lanes differ from its instant's; a single-obstacle certificate's
+    /// ignores them.
     pub fn observe_in_lanes(&mut self, s: &Sample, lanes: Lanes) -> Outcome<'_> {
+        if self.scene.is_some() {
+            self.observe_with::<true>(s, lanes)
+        } else {
+            self.observe_with::<false>(s, lanes)
+        }
+    }
+
+    /// The body of [`Monitor::observe`] and [`Monitor::observe_in_lanes`], in two copies: a
+    /// scene certificate's (`SCENE`), and a single obstacle's, which runs exactly the checks
+    /// it ran before scenes existed and pays nothing for them.
+    #[inline(always)]
+    fn observe_with<const SCENE: bool>(&mut self, s: &Sample, lanes: Lanes) -> Outcome<'_> {
         self.n_events = 0;
         self.samples += 1;
         // Fail safe: reject what cannot be trusted, before it touches any state.
@@ -478,21 +505,26 @@ impl Monitor {
         };
         match self.robot {
             Some(r) if s.t <= r.t => {
-                if !self.join_instant(s, lanes, r, &track) {
+                if !self.join_instant::<SCENE>(s, lanes, r, &track) {
                     return self.outcome();
                 }
             }
-            previous => self.start_instant(previous, s, lanes),
+            previous => self.start_instant::<SCENE>(previous, s, lanes),
         }
         self.carried.mode |= s.robot_mode.is_some();
-        self.check_obstacle(s, lanes, &track);
+        self.check_obstacle::<SCENE>(s, lanes, &track);
         self.outcome()
     }
 
     /// The first sample of a new instant: the robot's checks over the step from the previous
     /// instant (`control_period`, `braking_deceleration`), then the robot's new state.
-    #[inline]
-    fn start_instant(&mut self, previous: Option<RobotAt>, s: &Sample, lanes: Lanes) {
+    #[inline(always)]
+    fn start_instant<const SCENE: bool>(
+        &mut self,
+        previous: Option<RobotAt>,
+        s: &Sample,
+        lanes: Lanes,
+    ) {
         if let Some(r) = previous {
             self.check_period(r.t, s);
             self.check_braking(&r, s);
@@ -503,19 +535,21 @@ impl Monitor {
             x: s.robot_x,
             v: s.robot_v,
             mode: s.robot_mode,
-            lanes: Lanes {
+        });
+        if SCENE {
+            self.robot_lanes = Lanes {
                 obstacle: None,
                 ..lanes
-            },
-        });
+            };
+        }
     }
 
     /// The obstacle's checks: `first_detection_gap` at its first sighting, else
     /// `control_period` if it missed an instant; `latency`; `obstacle_speed` (or
     /// `static_obstacle`); under a scene certificate `obstacle_lane` and `collision`. Then its
     /// record.
-    #[inline]
-    fn check_obstacle(&mut self, s: &Sample, lanes: Lanes, track: &Track) {
+    #[inline(always)]
+    fn check_obstacle<const SCENE: bool>(&mut self, s: &Sample, lanes: Lanes, track: &Track) {
         if !track.seen {
             self.distinct_obstacles += 1;
             self.check_first_sighting(s);
@@ -527,20 +561,23 @@ impl Monitor {
             self.carried.observation_time = true;
             self.check_latency(s, obs_t);
         }
-        let certified = self.certified(track);
-        let keep_reference = match certified {
-            Some(o) if o.is_static => self.check_static(s, track),
-            _ => self.check_obstacle_speed(s, track, certified),
-        };
-        let ahead = match self.scene {
-            Some(_) => self.check_lanes(s, lanes, track, certified),
-            None => None,
+        let (keep_reference, ahead) = if SCENE {
+            let certified = self.certified(track);
+            let keep_reference = match certified {
+                Some(o) if o.is_static => self.check_static(s, track),
+                _ => self.check_obstacle_speed(s, track, certified),
+            };
+            (keep_reference, self.check_lanes(s, lanes, track, certified))
+        } else {
+            (self.check_obstacle_speed(s, track, None), None)
         };
         let slot = &mut self.obstacles[s.obstacle_id as usize];
         slot.seen = true;
         slot.instant = self.instant;
         slot.t = s.t;
-        slot.ahead = ahead;
+        if SCENE {
+            slot.ahead = ahead;
+        }
         if !keep_reference {
             slot.x = s.obstacle_x;
             slot.has_obs_t = s.obstacle_t.is_some();

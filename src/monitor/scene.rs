@@ -153,7 +153,7 @@ impl Monitor {
         }
         let track = &mut self.obstacles[idx];
         track.named = true;
-        track.certified = found.map(|i| i as u32);
+        track.certified = found.and_then(|i| std::num::NonZeroU32::new(i as u32 + 1));
         found
     }
 
@@ -178,7 +178,7 @@ impl Monitor {
     #[inline]
     pub(crate) fn certified(&self, track: &Track) -> Option<CertifiedObstacle> {
         let scene = self.scene.as_ref()?;
-        scene.obstacles.get(track.certified? as usize).copied()
+        scene.obstacles.get(track.certified_index()?).copied()
     }
 
     /// Counts a premise violation against the scene obstacle `id` was matched to, if any.
@@ -188,8 +188,8 @@ impl Monitor {
         };
         let matched = id
             .and_then(|id| self.obstacles.get(id as usize))
-            .and_then(|t| t.certified);
-        if let Some(count) = matched.and_then(|i| scene.violations.get_mut(i as usize)) {
+            .and_then(Track::certified_index);
+        if let Some(count) = matched.and_then(|i| scene.violations.get_mut(i)) {
             *count += 1;
         }
     }

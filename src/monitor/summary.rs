@@ -177,7 +177,7 @@ impl Monitor {
         let mut seen = vec![false; scene.obstacles.len()];
         let mut unmatched = 0;
         for track in self.obstacles.iter().filter(|t| t.seen) {
-            match track.certified.and_then(|i| seen.get_mut(i as usize)) {
+            match track.certified_index().and_then(|i| seen.get_mut(i)) {
                 Some(s) => *s = true,
                 None => unmatched += 1,
             }

@@ -35,7 +35,7 @@ pub(crate) fn non_finite(s: &Sample) -> Option<Field> {
 impl Monitor {
     /// The obstacle's record, growing the table on a new largest id; `None` (reported) for a
     /// sample with a non-finite number or an id beyond the table.
-    #[inline]
+    #[inline(always)]
     pub(in crate::monitor) fn admit(&mut self, s: &Sample) -> Option<Track> {
         let id = s.obstacle_id;
         if let Some(field) = non_finite(s) {
@@ -64,8 +64,8 @@ impl Monitor {
     /// twice at the instant, or a robot state that differs from the instant's are rejected
     /// (reported); a robot mode or lanes the instant lacked are adopted. Whether it is
     /// accepted.
-    #[inline]
-    pub(in crate::monitor) fn join_instant(
+    #[inline(always)]
+    pub(in crate::monitor) fn join_instant<const SCENE: bool>(
         &mut self,
         s: &Sample,
         lanes: Lanes,
@@ -84,30 +84,28 @@ impl Monitor {
         let mode_differs = matches!((r.mode, s.robot_mode), (Some(a), Some(m)) if a != m);
         // The robot's lane and the one it is leaving are stated together (`leaving` empty
         // means no lane change), so they differ only where both samples state them.
-        let lanes_differ = r.lanes.robot.is_some()
+        let held = self.robot_lanes;
+        let lanes_differ = SCENE
+            && held.robot.is_some()
             && lanes.robot.is_some()
-            && (r.lanes.robot, r.lanes.leaving) != (lanes.robot, lanes.leaving);
+            && (held.robot, held.leaving) != (lanes.robot, lanes.leaving);
         if r.x != s.robot_x || r.v != s.robot_v || mode_differs || lanes_differ {
             self.count(Check::MalformedSample);
             let event = Violation::at(Check::MalformedSample, s);
             self.raise(event.detail(Detail::RobotStateDiffers));
             return false;
         }
-        let adopt_mode = r.mode.is_none() && s.robot_mode.is_some();
-        let adopt_lanes = r.lanes.robot.is_none() && lanes.robot.is_some();
-        if adopt_mode || adopt_lanes {
+        if r.mode.is_none() && s.robot_mode.is_some() {
             self.robot = Some(RobotAt {
-                mode: r.mode.or(s.robot_mode),
-                lanes: if adopt_lanes {
-                    Lanes {
-                        obstacle: None,
-                        ..lanes
-                    }
-                } else {
-                    r.lanes
-                },
+                mode: s.robot_mode,
                 ..r
             });
+        }
+        if SCENE && held.robot.is_none() && lanes.robot.is_some() {
+            self.robot_lanes = Lanes {
+                obstacle: None,
+                ..lanes
+            };
         }
         true
     }

@@ -20,8 +20,9 @@ use crate::monitor::{Lanes, Monitor, RELATIVE_TOLERANCE, Sample, Track};
 impl Monitor {
     /// `obstacle_lane` and `collision` for a sample stating `lanes` (the robot's from the
     /// instant). Returns the obstacle's side to remember: whether it was ahead when the robot
-    /// entered its lane (`None`: the robot is not in its lane).
-    #[inline]
+    /// entered its lane (`None`: the robot is not in its lane). Out of line: only a scene
+    /// certificate's monitor calls it, and a single obstacle's stays as small as it was.
+    #[inline(never)]
     pub(in crate::monitor) fn check_lanes(
         &mut self,
         s: &Sample,
@@ -40,7 +41,7 @@ impl Monitor {
             }
         }
         let lane = lanes.obstacle.or(certified.map(|o| o.lane));
-        let robot = self.robot.map_or(Lanes::UNKNOWN, |r| r.lanes);
+        let robot = self.robot_lanes;
         if lane.and_then(|l| robot.robot_occupies(l)) == Some(false) {
             return None;
         }

@@ -46,7 +46,7 @@ fn noise_not_monitored(_: Carried) -> Option<&'static str> {
 
 impl Monitor {
     /// `first_detection_gap`, at an obstacle's first sighting.
-    #[inline]
+    #[inline(always)]
     pub(in crate::monitor) fn check_first_sighting(&mut self, s: &Sample) {
         self.count(Check::FirstDetectionGap);
         let rho = self.bounds.first_detection_gap;
@@ -64,7 +64,7 @@ impl Monitor {
     /// the obstacle's previous observation, against W — the certified obstacle's own W_i
     /// when the sample's obstacle was matched to one. Returns whether that previous
     /// observation must stay the reference (this one was taken at the same time).
-    #[inline]
+    #[inline(always)]
     pub(in crate::monitor) fn check_obstacle_speed(
         &mut self,
         s: &Sample,
@@ -101,8 +101,8 @@ impl Monitor {
     /// observation noise σ can make a period's displacement look like; 0 without noise); the
     /// speed its positions imply with 2σ/Δt plus their rounding error. One event at most.
     /// Returns whether the previous observation must stay the reference, as
-    /// [`Monitor::check_obstacle_speed`].
-    #[inline]
+    /// [`Monitor::check_obstacle_speed`]. Out of line, as `check_lanes`.
+    #[inline(never)]
     pub(in crate::monitor) fn check_static(&mut self, s: &Sample, track: &Track) -> bool {
         let noise = 2.0 * self.bounds.observation_noise;
         let mut moved = None;
@@ -137,7 +137,7 @@ impl Monitor {
     /// observation times when both have them, else over sample times, with the slack its
     /// rounding error and observation noise (2σ/Δt) allow; `None` when the two were taken at
     /// the same time (estimate later, from the older one).
-    #[inline]
+    #[inline(always)]
     fn estimated_speed(&self, s: &Sample, track: &Track) -> Option<Estimate> {
         let (t0, t1) = match s.obstacle_t {
             Some(o) if track.has_obs_t => (track.obs_t, o),
