@@ -12,5 +12,8 @@ pub mod program;
 pub mod scene_certificate;
 pub mod scene_check;
 pub mod scene_schedule;
+pub mod scene_search;
 pub mod schedule;
+pub mod search_certificate;
+pub mod search_check;
 pub mod verdict;

@@ -1,0 +1,366 @@
+//! One obstacle's constraints along a run, and what they leave of its position.
+//!
+//! Obstacle i is at X(n) at the start of step n, with X(0) in its start interval and
+//! X(n+1) = X(n) − w_n·dt, w_n ∈ [0, W_i]. A run constrains X(n) (what the robot saw, L
+//! steps later) and w_{n−1} (the speed it saw with it). Each constraint is an interval and
+//! the steps are independent choices, so the positions still possible at a step, given
+//! every constraint, form an interval: forward, the constraints up to the step; backward,
+//! the steps after it must stay reachable. Both passes are exact.
+//!
+//! Chains are persistent (shared tails), so a search tree's children share their parents'
+//! constraints.
+
+use std::rc::Rc;
+
+use crate::core::num::Scalar;
+use crate::core::rational::Rational;
+
+use super::interval::Interval;
+
+/// One constrained step.
+#[derive(Debug)]
+struct Link {
+    step: usize,
+    /// Constraint on X(step).
+    position: Interval,
+    /// Constraint on w_{step−1} (already within [0, W]).
+    speed: Interval,
+    /// X(step) given every constraint at steps ≤ step.
+    reach: Interval,
+    prev: Option<Rc<Link>>,
+}
+
+/// A constraint added at a query, outside the chain.
+#[derive(Clone, Debug)]
+pub struct Extra {
+    /// The step.
+    pub step: usize,
+    /// Constraint on X(step).
+    pub position: Interval,
+}
+
+/// One obstacle's constraints so far.
+#[derive(Clone, Debug)]
+pub struct Chain {
+    head: Rc<Link>,
+    w_max: Rational,
+    dt: Rational,
+}
+
+/// A point of a pass: a step with its constraints.
+#[derive(Clone, Debug)]
+struct Point {
+    step: usize,
+    position: Interval,
+    speed: Interval,
+}
+
+impl Chain {
+    /// No constraint yet: X(0) ∈ `start`, speeds in [0, `w_max`].
+    pub fn new(start: Interval, w_max: Rational, dt: Rational) -> Chain {
+        Chain {
+            head: Rc::new(Link {
+                step: 0,
+                position: start.clone(),
+                speed: Interval::all(),
+                reach: start,
+                prev: None,
+            }),
+            w_max,
+            dt,
+        }
+    }
+
+    /// W_i.
+    pub fn w_max(&self) -> &Rational {
+        &self.w_max
+    }
+
+    /// Speeds the obstacle may hold.
+    fn speeds(&self) -> Interval {
+        Interval::closed(Rational::zero(), self.w_max.clone())
+    }
+
+    /// How far X may fall over `steps` unconstrained steps.
+    fn drift(&self, steps: usize) -> Interval {
+        self.speeds()
+            .scaled(&(self.dt.clone() * Rational::int(steps as i64)))
+    }
+
+    /// The last constrained step.
+    pub fn last_step(&self) -> usize {
+        self.head.step
+    }
+
+    /// X(n) given every constraint so far, for n at or after the last constrained step.
+    pub fn reach_at(&self, n: usize) -> Interval {
+        let h = &self.head;
+        debug_assert!(n >= h.step);
+        h.reach.minus(&self.drift(n - h.step))
+    }
+
+    /// The chain with X(n) ∈ `position` and w_{n−1} ∈ `speed` added (n at or after the last
+    /// constrained step); None when nothing is left.
+    pub fn constrain(&self, n: usize, position: &Interval, speed: &Interval) -> Option<Chain> {
+        let speed = speed.intersect(&self.speeds());
+        let trivial_speed = speed == self.speeds();
+        if position == &Interval::all() && trivial_speed {
+            return (!self.reach_at(n).is_empty()).then(|| self.clone());
+        }
+        let (base, position, speed) = if n == self.head.step {
+            match &self.head.prev {
+                Some(prev) => (
+                    Some(prev.clone()),
+                    position.intersect(&self.head.position),
+                    speed.intersect(&self.head.speed),
+                ),
+                // Step 0: nothing before it, and no speed is seen with X(0).
+                None => (
+                    None,
+                    position.intersect(&self.head.position),
+                    Interval::all(),
+                ),
+            }
+        } else {
+            (Some(self.head.clone()), position.clone(), speed)
+        };
+        let reach = match &base {
+            Some(b) => b
+                .reach
+                .minus(&self.drift(n - 1 - b.step))
+                .minus(&speed.scaled(&self.dt))
+                .intersect(&position),
+            None => position.clone(),
+        };
+        if reach.is_empty() {
+            return None;
+        }
+        // A lower bound on X(n) implies every earlier, weaker lower bound (X never grows):
+        // drop an implied predecessor so chains of "still far" rows stay short.
+        let base = match base {
+            Some(b) if implied_by(&b, n, &position, &self.speeds()) => b.prev.clone(),
+            b => b,
+        };
+        Some(Chain {
+            head: Rc::new(Link {
+                step: n,
+                position,
+                speed,
+                reach,
+                prev: base,
+            }),
+            w_max: self.w_max.clone(),
+            dt: self.dt.clone(),
+        })
+    }
+
+    /// The chain's points, oldest first, with `extra` constraints merged in and a point at
+    /// every step of `queries`.
+    fn points(&self, extra: &[Extra], queries: &[usize]) -> Vec<Point> {
+        let mut points = Vec::new();
+        let mut link = Some(&self.head);
+        while let Some(l) = link {
+            points.push(Point {
+                step: l.step,
+                position: l.position.clone(),
+                speed: l.speed.clone(),
+            });
+            link = l.prev.as_ref();
+        }
+        points.reverse();
+        let mut add = |step: usize, position: Interval| {
+            match points.binary_search_by_key(&step, |p| p.step) {
+                Ok(i) => points[i].position = points[i].position.intersect(&position),
+                Err(i) => points.insert(
+                    i,
+                    Point {
+                        step,
+                        position,
+                        speed: Interval::all(),
+                    },
+                ),
+            };
+        };
+        for e in extra {
+            add(e.step, e.position.clone());
+        }
+        for &q in queries {
+            add(q, Interval::all());
+        }
+        points
+    }
+
+    /// Forward and backward passes over `points`: (reach given earlier constraints,
+    /// feasible given later ones), both including the point's own constraint.
+    fn passes(&self, points: &[Point]) -> (Vec<Interval>, Vec<Interval>) {
+        let speeds = self.speeds();
+        let mut forward: Vec<Interval> = Vec::with_capacity(points.len());
+        for (j, p) in points.iter().enumerate() {
+            let f = if j == 0 {
+                p.position.clone()
+            } else {
+                let prev = &points[j - 1];
+                forward[j - 1]
+                    .minus(&self.drift(p.step - 1 - prev.step))
+                    .minus(&p.speed.intersect(&speeds).scaled(&self.dt))
+                    .intersect(&p.position)
+            };
+            forward.push(f);
+        }
+        let mut backward: Vec<Interval> = vec![Interval::all(); points.len()];
+        for j in (0..points.len()).rev() {
+            backward[j] = if j + 1 == points.len() {
+                points[j].position.clone()
+            } else {
+                let next = &points[j + 1];
+                backward[j + 1]
+                    .plus(&self.drift(next.step - 1 - points[j].step))
+                    .plus(&next.speed.intersect(&speeds).scaled(&self.dt))
+                    .intersect(&points[j].position)
+            };
+        }
+        (forward, backward)
+    }
+
+    /// X(m) over every behaviour that meets the chain and `extra`: exact. Empty when they
+    /// cannot all be met.
+    pub fn marginal(&self, m: usize, extra: &[Extra]) -> Interval {
+        let points = self.points(extra, &[m]);
+        let (forward, backward) = self.passes(&points);
+        let j = points
+            .binary_search_by_key(&m, |p| p.step)
+            .expect("the query is a point");
+        forward[j].intersect(&backward[j])
+    }
+
+    /// A behaviour that meets the chain and `extra`: X(0) and the speeds w_0 … w_{s−1} up to
+    /// the last constrained step s (later speeds are free). Chosen away from open ends.
+    /// None when the constraints cannot all be met.
+    pub fn sample(&self, extra: &[Extra]) -> Option<(Rational, Vec<Rational>)> {
+        let points = self.points(extra, &[]);
+        let (forward, backward) = self.passes(&points);
+        let speeds = self.speeds();
+        let mut xs: Vec<Rational> = Vec::with_capacity(points.len());
+        let first = forward[0].intersect(&backward[0]).inner_point()?;
+        xs.push(first);
+        let mut ws: Vec<Rational> = Vec::new();
+        for j in 1..points.len() {
+            let p = &points[j];
+            let gap = p.step - 1 - points[j - 1].step;
+            let last_speed = p.speed.intersect(&speeds);
+            let from = Interval::point(xs[j - 1].clone());
+            let here = from
+                .minus(&self.drift(gap))
+                .minus(&last_speed.scaled(&self.dt))
+                .intersect(&p.position)
+                .intersect(&backward[j]);
+            let x = here.inner_point()?;
+            // Split the fall into the constrained last speed and equal free ones.
+            let fall = (xs[j - 1].clone() - x.clone()) / self.dt.clone();
+            let free_max = self.w_max.clone() * Rational::int(gap as i64);
+            let last = Interval::closed(fall.clone() - free_max, fall.clone())
+                .intersect(&last_speed)
+                .inner_point()?;
+            if gap > 0 {
+                let each = (fall - last.clone()) / Rational::int(gap as i64);
+                ws.extend(std::iter::repeat_n(each, gap));
+            }
+            ws.push(last);
+            xs.push(x);
+        }
+        Some((xs.swap_remove(0), ws))
+    }
+}
+
+/// Whether link `b`'s constraint follows from X(n) ∈ `position` (n > b.step): b bounds X
+/// only from below, by no more than `position` does, and sees no speed.
+fn implied_by(b: &Link, n: usize, position: &Interval, speeds: &Interval) -> bool {
+    if b.prev.is_none() || n <= b.step || b.position.hi.is_some() || b.speed != *speeds {
+        return false;
+    }
+    match (&b.position.lo, &position.lo) {
+        (Some(old), Some(new)) => {
+            new.at > old.at || (new.at == old.at && (!new.closed || old.closed))
+        }
+        (None, _) => true,
+        (Some(_), None) => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::proof::scene_search::interval::End;
+
+    fn r(n: i64, d: i64) -> Rational {
+        Rational::int(n) / Rational::int(d)
+    }
+
+    fn below(x: Rational) -> Interval {
+        Interval {
+            lo: None,
+            hi: Some(End::closed(x)),
+        }
+    }
+
+    fn above(x: Rational) -> Interval {
+        Interval {
+            lo: Some(End::open(x)),
+            hi: None,
+        }
+    }
+
+    /// A later constraint narrows an earlier step's positions (the backward pass), and a
+    /// sampled behaviour meets every constraint when replayed by hand.
+    #[test]
+    fn marginals_see_later_constraints_and_samples_meet_them() {
+        // X(0) = 10, W = 1, dt = 1.
+        let c = Chain::new(Interval::point(r(10, 1)), r(1, 1), r(1, 1));
+        let c = c.constrain(5, &below(r(6, 1)), &Interval::all()).unwrap();
+        // X(5) ≤ 6 needs a fall of ≥ 4 in 5 steps, so X(1) ≤ 10 and X(1) ≥ 9 stays, but
+        // X(4) ≤ 7: X(4) ∈ [6, 7].
+        let m4 = c.marginal(4, &[]);
+        assert_eq!(m4, Interval::closed(r(6, 1), r(7, 1)));
+        // Beyond the last constraint only the drift applies.
+        assert_eq!(c.marginal(7, &[]), Interval::closed(r(3, 1), r(6, 1)));
+        let extra = [Extra {
+            step: 2,
+            position: above(r(17, 2)),
+        }];
+        let m2 = c.marginal(2, &extra);
+        assert!(m2.contains(&r(9, 1)) && !m2.contains(&r(17, 2)));
+        let (x0, ws) = c.sample(&extra).unwrap();
+        assert_eq!(x0, r(10, 1));
+        assert_eq!(ws.len(), 5);
+        let mut x = x0;
+        for (k, w) in ws.iter().enumerate() {
+            assert!(*w >= Rational::zero() && *w <= r(1, 1));
+            x = x - w.clone();
+            if k + 1 == 2 {
+                assert!(x > r(17, 2));
+            }
+        }
+        assert!(x <= r(6, 1));
+    }
+
+    /// Impossible constraints leave nothing; implied "still far" rows do not pile up.
+    #[test]
+    fn infeasible_and_implied_rows() {
+        let c = Chain::new(Interval::point(r(10, 1)), r(1, 1), r(1, 1));
+        assert!(c.constrain(2, &below(r(7, 1)), &Interval::all()).is_none());
+        let mut far = c.clone();
+        for n in 1..50 {
+            far = far
+                .constrain(n, &above(r(n as i64, 10)), &Interval::all())
+                .unwrap();
+        }
+        assert_eq!(far.points(&[], &[]).len(), 2);
+        assert_eq!(
+            far.marginal(3, &[]),
+            Interval {
+                lo: Some(End::closed(r(7, 1))),
+                hi: Some(End::closed(r(10, 1))),
+            }
+        );
+    }
+}

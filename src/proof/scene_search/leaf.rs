@@ -1,0 +1,357 @@
+//! The worst separation of each obstacle over the behaviours of one finished run.
+//!
+//! A leaf fixes the robot's whole motion (the drive profile until T, then braking to rest;
+//! or driving for ever) and its lanes over time. Obstacle i counts on each occupancy
+//! interval J = [s, e) of its lane (docs/semantics.md §11.6): when it is ahead at J's start
+//! its measure is the gap, lowest where the robot's moving instants in J end (the exit at
+//! e·dt, or the rest instant, or never: −∞); when it is beside or behind, the measure is
+//! −gap, lowest at J's start. Which side it is on is one more interval constraint on
+//! X(s), so each case is an exact marginal of its chain ([`Chain::marginal`]).
+
+use crate::core::num::Scalar;
+use crate::core::rational::Rational;
+use crate::core::scene::SceneParams;
+use crate::core::scene::lateral::LaneChangeEvent;
+use crate::core::semantics::{Mode, RobotState, robot_motion};
+
+use super::chain::Extra;
+use super::interval::{End, Interval};
+use super::tree::{Ending, Leaf, Profile};
+
+/// An occupancy interval of a lane: from step `start` to step `end` (None: never left).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Occupancy {
+    /// The lane.
+    pub lane: i32,
+    /// The step at whose start the robot entered it (0 for lane 0).
+    pub start: usize,
+    /// The step at whose start the robot had left it.
+    pub end: Option<usize>,
+}
+
+/// The occupancy intervals of a run's lane changes (maximal: a change back into the lane
+/// just left, at the instant the first change completes, continues the old interval).
+pub fn occupancies(changes: &[LaneChangeEvent], periods: usize) -> Vec<Occupancy> {
+    let mut out = vec![Occupancy {
+        lane: 0,
+        start: 0,
+        end: None,
+    }];
+    for c in changes {
+        match out
+            .iter_mut()
+            .find(|o| o.lane == c.to && o.end == Some(c.step))
+        {
+            Some(o) => o.end = None,
+            None => out.push(Occupancy {
+                lane: c.to,
+                start: c.step,
+                end: None,
+            }),
+        }
+        if let Some(o) = out.iter_mut().find(|o| o.lane == c.from && o.end.is_none()) {
+            o.end = Some(c.step + periods);
+        }
+    }
+    out
+}
+
+/// Where obstacle i's worst separation in a leaf is reached.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Objective {
+    /// Ahead at the interval's start: the gap at the end of its moving instants, the
+    /// instant `at` (seconds), reached at step `step` plus `into` seconds.
+    Ahead {
+        /// The interval.
+        interval: Occupancy,
+        /// Step whose start precedes the instant.
+        step: usize,
+        /// Seconds into that step.
+        into: Rational,
+    },
+    /// Ahead at the interval's start, which the robot never leaves while moving: −∞.
+    Unbounded {
+        /// The interval.
+        interval: Occupancy,
+    },
+    /// Beside or behind at the interval's start: −gap there.
+    Behind {
+        /// The interval.
+        interval: Occupancy,
+    },
+}
+
+/// Obstacle i's worst case in one leaf.
+#[derive(Clone, Debug)]
+pub struct Worst {
+    /// The infimum of its separation over the leaf's behaviours (None: −∞).
+    pub value: Option<Rational>,
+    /// Where it is reached.
+    pub objective: Objective,
+}
+
+impl Worst {
+    /// Whether `self` is below `other`.
+    pub fn below(&self, other: &Worst) -> bool {
+        match (&self.value, &other.value) {
+            (None, None) => false,
+            (None, Some(_)) => true,
+            (Some(_), None) => false,
+            (Some(a), Some(b)) => a < b,
+        }
+    }
+
+    /// The constraint that puts the obstacle on the objective's side.
+    pub fn side(&self, robot_at_start: &Rational) -> Extra {
+        let (interval, ahead) = match &self.objective {
+            Objective::Ahead { interval, .. } | Objective::Unbounded { interval } => {
+                (interval, true)
+            }
+            Objective::Behind { interval } => (interval, false),
+        };
+        Extra {
+            step: interval.start,
+            position: side(robot_at_start, ahead),
+        }
+    }
+}
+
+/// The robot's motion in a leaf, exactly.
+#[derive(Clone, Debug)]
+pub struct Motion {
+    /// Brake step T (None: never brakes).
+    pub brake: Option<usize>,
+    /// States at step starts after T until rest (index 0 is step T+1).
+    braking: Vec<RobotState<Rational>>,
+    /// The rest instant (s) and the step whose start precedes it.
+    pub rest: Option<(Rational, usize)>,
+}
+
+impl Motion {
+    /// The robot's motion in a leaf.
+    pub fn of(p: &SceneParams<Rational>, profile: &mut Profile, ending: &Ending) -> Motion {
+        let Ending::Brake { step, .. } = ending else {
+            return Motion {
+                brake: None,
+                braking: Vec::new(),
+                rest: None,
+            };
+        };
+        let mut state = profile.at(p, *step).clone();
+        state.mode = Mode::Brake;
+        let mut braking = Vec::new();
+        let mut k = *step;
+        let dt = p.robot.dt.clone();
+        if state.speed <= Rational::zero() {
+            return Motion {
+                brake: Some(*step),
+                braking,
+                rest: Some((dt * Rational::int(*step as i64), *step)),
+            };
+        }
+        loop {
+            let m = robot_motion(&p.robot, &state);
+            if m.came_to_rest() {
+                let at = dt.clone() * Rational::int(k as i64) + m.moving_for.clone();
+                return Motion {
+                    brake: Some(*step),
+                    braking,
+                    rest: Some((at, k)),
+                };
+            }
+            state = m.end;
+            braking.push(state.clone());
+            k += 1;
+        }
+    }
+
+    /// The robot's position at step k's start.
+    pub fn position(&self, p: &SceneParams<Rational>, profile: &mut Profile, k: usize) -> Rational {
+        match self.brake {
+            Some(t) if k > t => match self.braking.get(k - t - 1) {
+                Some(s) => s.position.clone(),
+                // Past the rest instant it stays where it rested.
+                None => self.rest_position(p, profile),
+            },
+            _ => profile.at(p, k).position.clone(),
+        }
+    }
+
+    /// Where the robot rests.
+    pub fn rest_position(&self, p: &SceneParams<Rational>, profile: &mut Profile) -> Rational {
+        let t = self.brake.expect("only a braking run rests");
+        let last = self.braking.last().cloned().unwrap_or_else(|| {
+            let mut s = profile.at(p, t).clone();
+            s.mode = Mode::Brake;
+            s
+        });
+        if last.speed <= Rational::zero() {
+            return last.position;
+        }
+        robot_motion(&p.robot, &last).end.position
+    }
+}
+
+/// X(s) ahead of (`ahead`) or at/behind the robot at `robot`.
+fn side(robot: &Rational, ahead: bool) -> Interval {
+    if ahead {
+        Interval {
+            lo: Some(End::open(robot.clone())),
+            hi: None,
+        }
+    } else {
+        Interval {
+            lo: None,
+            hi: Some(End::closed(robot.clone())),
+        }
+    }
+}
+
+/// Obstacle i's worst case in a leaf (None: the robot never moves in its lane).
+pub fn worst(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    leaf: &Leaf,
+    motion: &Motion,
+    i: usize,
+) -> Option<Worst> {
+    let lane = p.obstacles[i].lane;
+    let chain = &leaf.chains[i];
+    let dt = p.robot.dt.clone();
+    let w = chain.w_max().clone();
+    let mut best: Option<Worst> = None;
+    for interval in occupancies(&leaf.changes, p.lane_change_periods()) {
+        if interval.lane != lane {
+            continue;
+        }
+        let start_time = dt.clone() * Rational::int(interval.start as i64);
+        if let Some((rest, _)) = &motion.rest
+            && start_time >= *rest
+        {
+            continue;
+        }
+        let at_start = motion.position(p, profile, interval.start);
+        let ahead = [Extra {
+            step: interval.start,
+            position: side(&at_start, true),
+        }];
+        let behind = [Extra {
+            step: interval.start,
+            position: side(&at_start, false),
+        }];
+        let mut candidates: Vec<Worst> = Vec::new();
+        // Ahead: the gap where the moving instants end.
+        if !chain.marginal(interval.start, &ahead).is_empty() {
+            let exit = interval
+                .end
+                .map(|e| (dt.clone() * Rational::int(e as i64), e));
+            let end = match (&exit, &motion.rest) {
+                (Some((te, e)), Some((tr, r))) => Some(if te <= tr {
+                    (*e, Rational::zero())
+                } else {
+                    (*r, tr.clone() - dt.clone() * Rational::int(*r as i64))
+                }),
+                (Some((_, e)), None) => Some((*e, Rational::zero())),
+                (None, Some((tr, r))) => {
+                    Some((*r, tr.clone() - dt.clone() * Rational::int(*r as i64)))
+                }
+                (None, None) => None,
+            };
+            match end {
+                None => candidates.push(Worst {
+                    value: None,
+                    objective: Objective::Unbounded {
+                        interval: interval.clone(),
+                    },
+                }),
+                Some((step, into)) => {
+                    let x = chain.marginal(step, &ahead);
+                    let low = x.lo.expect("positions are bounded").at - w.clone() * into.clone();
+                    let robot = if into == Rational::zero() {
+                        motion.position(p, profile, step)
+                    } else {
+                        motion.rest_position(p, profile)
+                    };
+                    candidates.push(Worst {
+                        value: Some(low - robot),
+                        objective: Objective::Ahead {
+                            interval: interval.clone(),
+                            step,
+                            into,
+                        },
+                    });
+                }
+            }
+        }
+        // Beside or behind: −gap at the start.
+        let x = chain.marginal(interval.start, &behind);
+        if !x.is_empty() {
+            let high = x.hi.expect("bounded above by the robot").at;
+            candidates.push(Worst {
+                value: Some(at_start.clone() - high),
+                objective: Objective::Behind {
+                    interval: interval.clone(),
+                },
+            });
+        }
+        for c in candidates {
+            if best.as_ref().is_none_or(|b| c.below(b)) {
+                best = Some(c);
+            }
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn change(step: usize, from: i32, to: i32) -> LaneChangeEvent {
+        LaneChangeEvent { step, from, to }
+    }
+
+    /// Lane 0 from t = 0; a change opens the target at its start and closes the source P
+    /// periods later; a change straight back continues the interval just closed.
+    #[test]
+    fn occupancy_intervals_follow_the_changes() {
+        let o = occupancies(&[change(10, 0, 1), change(20, 1, 0)], 4);
+        assert_eq!(
+            o,
+            vec![
+                Occupancy {
+                    lane: 0,
+                    start: 0,
+                    end: Some(14)
+                },
+                Occupancy {
+                    lane: 1,
+                    start: 10,
+                    end: Some(24)
+                },
+                Occupancy {
+                    lane: 0,
+                    start: 20,
+                    end: None
+                },
+            ]
+        );
+        let back = occupancies(&[change(10, 0, 1), change(14, 1, 0)], 4);
+        assert_eq!(
+            back[0],
+            Occupancy {
+                lane: 0,
+                start: 0,
+                end: None
+            }
+        );
+        assert_eq!(
+            back[1],
+            Occupancy {
+                lane: 1,
+                start: 10,
+                end: Some(18)
+            }
+        );
+    }
+}

@@ -1,0 +1,485 @@
+//! The search tree: every way a scene's run can go, as far as the controller can tell.
+//!
+//! A node is a step start k at which the robot still accelerates or drives: its lateral
+//! state, the lane changes so far, and per obstacle the constraints the run has put on it
+//! ([`Chain`]). Until it brakes the robot follows the drive profile whatever happens, so
+//! the node fixes the robot's whole past. At k ≥ L the robot sees every obstacle's position
+//! at step n = k − L; the cells of each observation ([`super::cells`]) are the only
+//! distinctions the controller makes, so one child per combination of cells (those the
+//! obstacles can reach) covers every behaviour, and [`scene_guard`] on a representative of
+//! the combination is the controller's command for all of it. A child either goes on to
+//! k + 1, begins a lane change and goes on, or brakes: a leaf. A run in which nothing can
+//! happen any more (no goal, and every obstacle of the robot's lane already seen at a gap
+//! ≤ 0) is a leaf too: the robot drives on for ever.
+
+use crate::core::num::Scalar;
+use crate::core::rational::Rational;
+use crate::core::scene::SceneParams;
+use crate::core::scene::guards::{Command, scene_guard};
+use crate::core::scene::lateral::{LaneChangeEvent, Lateral};
+use crate::core::semantics::{
+    BrakeReason, Mode, Observation, RobotState, danger_distance, robot_motion,
+};
+
+use super::cells::{Cell, Role, Thresholds, cells};
+use super::chain::Chain;
+use super::interval::Interval;
+
+/// The robot along the drive profile, extended as the search needs it.
+#[derive(Clone, Debug)]
+pub struct Profile {
+    states: Vec<RobotState<Rational>>,
+}
+
+impl Profile {
+    /// The profile's first state.
+    pub fn new() -> Profile {
+        Profile {
+            states: vec![RobotState {
+                position: Rational::zero(),
+                speed: Rational::zero(),
+                mode: Mode::Accelerate,
+            }],
+        }
+    }
+
+    /// The robot at step k's start if it has not braked.
+    pub fn at(&mut self, p: &SceneParams<Rational>, k: usize) -> &RobotState<Rational> {
+        while self.states.len() <= k {
+            let last = self.states.last().expect("never empty");
+            let next = robot_motion(&p.robot, last).end;
+            self.states.push(next);
+        }
+        &self.states[k]
+    }
+}
+
+impl Default for Profile {
+    fn default() -> Self {
+        Profile::new()
+    }
+}
+
+/// How a run ends.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Ending {
+    /// The controller commands Brake at this step's start.
+    Brake {
+        /// T.
+        step: usize,
+        /// Why.
+        reason: BrakeReason,
+    },
+    /// From this step on no guard can fire again: the robot drives on for ever.
+    Forever {
+        /// The first step at which nothing can happen any more.
+        step: usize,
+    },
+}
+
+/// A finished run, as far as the controller can tell.
+#[derive(Clone, Debug)]
+pub struct Leaf {
+    /// How it ends.
+    pub ending: Ending,
+    /// Lane changes begun, in order.
+    pub changes: Vec<LaneChangeEvent>,
+    /// Per obstacle, what the run requires of it.
+    pub chains: Vec<Chain>,
+}
+
+/// A step start at which the robot still accelerates or drives.
+#[derive(Clone, Debug)]
+struct Node {
+    k: usize,
+    lateral: Lateral,
+    changes: Vec<LaneChangeEvent>,
+    chains: Vec<Chain>,
+}
+
+/// Why the search stopped without an answer.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TreeError {
+    /// A run went on past the horizon.
+    #[error("a run is still undecided after {0} control periods")]
+    Horizon(usize),
+    /// Too many runs to list.
+    #[error("more than {0} runs; the scene is too large for the search")]
+    Budget(usize),
+}
+
+/// Counts of what the search did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TreeStats {
+    /// Step starts expanded.
+    pub nodes: usize,
+    /// Finished runs.
+    pub leaves: usize,
+}
+
+/// Walks every run of the scene and hands each finished one to `visit`.
+pub fn walk(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    horizon: usize,
+    budget: usize,
+    mut visit: impl FnMut(&Leaf, &mut Profile),
+) -> Result<TreeStats, TreeError> {
+    let dt = p.robot.dt.clone();
+    let root = Node {
+        k: 0,
+        lateral: Lateral::start(),
+        changes: Vec::new(),
+        chains: p
+            .obstacles
+            .iter()
+            .map(|o| {
+                Chain::new(
+                    Interval::closed(o.start_min.clone(), o.start_max.clone()),
+                    o.max_speed.clone(),
+                    dt.clone(),
+                )
+            })
+            .collect(),
+    };
+    let periods = p.lane_change_periods();
+    let goal_step = goal_step(p, profile, horizon);
+    let mut stats = TreeStats::default();
+    let mut stack = vec![root];
+    while let Some(node) = stack.pop() {
+        stats.nodes += 1;
+        if stats.nodes > budget {
+            return Err(TreeError::Budget(budget));
+        }
+        if node.k > horizon {
+            return Err(TreeError::Horizon(horizon));
+        }
+        let k = node.k;
+        let lateral = node.lateral.at_step(k, periods);
+        let robot = profile.at(p, k).clone();
+        let l = p.robot.L;
+        if p.goal.is_none() && k >= l && nothing_left(p, profile, &node, &lateral, k - l) {
+            stats.leaves += 1;
+            visit(
+                &Leaf {
+                    ending: Ending::Forever { step: k },
+                    changes: node.changes.clone(),
+                    chains: node.chains.clone(),
+                },
+                profile,
+            );
+            continue;
+        }
+        if let Some(next) = quiet_until(p, profile, &node, &lateral, goal_step, horizon)
+            && next > k + 1
+        {
+            // Nothing the controller reads can change before `next`: go straight there.
+            stack.push(Node { k: next, ..node });
+            continue;
+        }
+        // Per obstacle, the cells it can reach at this step, with its chain in each. A
+        // target lane's obstacles are read only when a lane change is being decided, so
+        // they are split only then.
+        let n = k.checked_sub(l);
+        let mut options: Vec<Options> = Vec::with_capacity(p.obstacles.len());
+        let mut targets: Vec<usize> = Vec::new();
+        for i in 0..p.obstacles.len() {
+            let role = role(p, &lateral, i);
+            let cells_here = match n {
+                Some(n) if role != Role::Ignored => {
+                    let seen_at = profile.at(p, n).position.clone();
+                    let th = thresholds(p, &robot.speed, &lateral, i, n);
+                    cells(role, &th)
+                        .into_iter()
+                        .filter_map(|cell| reach(&node.chains[i], cell, n, &seen_at))
+                        .collect()
+                }
+                _ => vec![(None, node.chains[i].clone())],
+            };
+            if role == Role::Target {
+                targets.push(i);
+            }
+            options.push(cells_here);
+        }
+        if options.iter().any(Vec::is_empty) {
+            continue;
+        }
+        let mut choice = vec![0usize; options.len()];
+        loop {
+            let mut seen: Vec<Option<Observation<Rational>>> = choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| options[i][c].0.clone())
+                .collect();
+            // Targets unseen: every neighbouring lane free.
+            for &t in &targets {
+                seen[t] = None;
+            }
+            let base: Vec<Chain> = choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| {
+                    if targets.contains(&i) {
+                        node.chains[i].clone()
+                    } else {
+                        options[i][c].1.clone()
+                    }
+                })
+                .collect();
+            let command = scene_guard(p, &robot, &lateral, &seen);
+            if matches!(command, Command::ChangeLane(_)) && !targets.is_empty() {
+                // The lane change hangs on the targets: one child per combination of theirs.
+                let mut tchoice = vec![0usize; targets.len()];
+                loop {
+                    let mut seen = seen.clone();
+                    let mut chains = base.clone();
+                    for (j, &t) in targets.iter().enumerate() {
+                        seen[t] = options[t][tchoice[j]].0.clone();
+                        chains[t] = options[t][tchoice[j]].1.clone();
+                    }
+                    let command = scene_guard(p, &robot, &lateral, &seen);
+                    follow(
+                        &mut stack, &mut stats, &node, lateral, k, command, chains, profile,
+                        &mut visit,
+                    );
+                    if !advance_targets(&mut tchoice, &targets, &options) {
+                        break;
+                    }
+                }
+            } else {
+                follow(
+                    &mut stack, &mut stats, &node, lateral, k, command, base, profile, &mut visit,
+                );
+            }
+            if !advance(&mut choice, &options, &targets) {
+                break;
+            }
+        }
+    }
+    Ok(stats)
+}
+
+/// Per obstacle, the cells it can reach with its chain in each.
+type Options = Vec<(Option<Observation<Rational>>, Chain)>;
+
+/// The next combination of non-target cells (odometer order); false after the last.
+fn advance(choice: &mut [usize], options: &[Options], targets: &[usize]) -> bool {
+    for i in 0..choice.len() {
+        if targets.contains(&i) {
+            continue;
+        }
+        choice[i] += 1;
+        if choice[i] < options[i].len() {
+            return true;
+        }
+        choice[i] = 0;
+    }
+    false
+}
+
+/// The next combination of the targets' cells; false after the last.
+fn advance_targets(choice: &mut [usize], targets: &[usize], options: &[Options]) -> bool {
+    for (j, &t) in targets.iter().enumerate() {
+        choice[j] += 1;
+        if choice[j] < options[t].len() {
+            return true;
+        }
+        choice[j] = 0;
+    }
+    false
+}
+
+/// Carries out the controller's command in a child: a leaf when it brakes, else the next
+/// step (with a lane change begun).
+#[allow(clippy::too_many_arguments)]
+fn follow(
+    stack: &mut Vec<Node>,
+    stats: &mut TreeStats,
+    node: &Node,
+    lateral: Lateral,
+    k: usize,
+    command: Command,
+    chains: Vec<Chain>,
+    profile: &mut Profile,
+    visit: &mut impl FnMut(&Leaf, &mut Profile),
+) {
+    let mut next = lateral;
+    let mut changes = node.changes.clone();
+    match command {
+        Command::Go => {}
+        Command::ChangeLane(to) => changes.push(next.begin_change(k, to)),
+        Command::Brake(reason) => {
+            stats.leaves += 1;
+            visit(
+                &Leaf {
+                    ending: Ending::Brake { step: k, reason },
+                    changes,
+                    chains,
+                },
+                profile,
+            );
+            return;
+        }
+    }
+    stack.push(Node {
+        k: k + 1,
+        lateral: next,
+        changes,
+        chains,
+    });
+}
+
+/// The first step after `node.k` at which the controller might do anything but go on, when
+/// it can be told without branching: no obstacle of the robot's lane can be seen within ρ
+/// before it (observed gaps fall no faster than the robot's travel plus W_i per period),
+/// and the destination does not fire before it. Lane changes need danger, so none begins
+/// before it either; obstacles of other lanes are read only for lane changes. None when
+/// the robot might react now.
+fn quiet_until(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    node: &Node,
+    lateral: &Lateral,
+    goal_step: Option<usize>,
+    horizon: usize,
+) -> Option<usize> {
+    let k = node.k;
+    let l = p.robot.L;
+    let mut next = goal_step.unwrap_or(horizon + 1).min(horizon + 1);
+    if next <= k {
+        return None;
+    }
+    for (i, o) in p.obstacles.iter().enumerate() {
+        if o.lane != lateral.lane {
+            continue;
+        }
+        let chain = &node.chains[i];
+        let first = k.saturating_sub(l).max(chain.last_step());
+        let lowest = chain.reach_at(chain.last_step()).lo?.at;
+        // First n ≥ first with lowest − W·dt·(n − last) − P_n ≤ ρ (monotone in n).
+        let near = |n: usize, profile: &mut Profile| {
+            let fall = chain.w_max().clone()
+                * p.robot.dt.clone()
+                * Rational::int((n - chain.last_step()) as i64);
+            lowest.clone() - fall - profile.at(p, n).position.clone() <= p.robot.rho
+        };
+        if near(first, profile) {
+            return None;
+        }
+        // Only steps k' = n + L < next matter.
+        let last = match next.checked_sub(l + 1) {
+            Some(last) if last > first => last,
+            _ => continue,
+        };
+        if !near(last, profile) {
+            continue;
+        }
+        // near(lo) is false, near(hi) true: bisect for the first near step.
+        let (mut lo, mut hi) = (first, last);
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if near(mid, profile) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        next = next.min(hi + l);
+    }
+    (next > k).then_some(next)
+}
+
+/// The cell as a constraint on the obstacle (its gap is seen from the robot at `seen_at`),
+/// with its representative; None when the obstacle cannot be in it.
+fn reach(
+    chain: &Chain,
+    cell: Cell,
+    n: usize,
+    seen_at: &Rational,
+) -> Option<(Option<Observation<Rational>>, Chain)> {
+    let position = cell.gap.shifted(seen_at);
+    // The speed seen with X(n) is w_{n−1}; at n = 0 there is none (it reads 0).
+    let speed = if n == 0 { Interval::all() } else { cell.speed };
+    let chain = chain.constrain(n, &position, &speed)?;
+    Some((cell.seen, chain))
+}
+
+/// How the controller reads obstacle i with the robot in `lateral`.
+fn role(p: &SceneParams<Rational>, lateral: &Lateral, i: usize) -> Role {
+    let lane = p.obstacles[i].lane;
+    if lane == lateral.lane {
+        Role::Reference
+    } else if p.lane_change.is_some()
+        && lateral.change.is_none()
+        && (lane == lateral.lane + 1 || lane == lateral.lane - 1)
+    {
+        Role::Target
+    } else {
+        Role::Ignored
+    }
+}
+
+/// The thresholds for obstacle i at a step where the robot drives at `v`.
+fn thresholds(
+    p: &SceneParams<Rational>,
+    v: &Rational,
+    lateral: &Lateral,
+    i: usize,
+    n: usize,
+) -> Thresholds {
+    let o = &p.obstacles[i];
+    let can_change = p.lane_change.is_some() && lateral.change.is_none();
+    let lane_change = p.lane_change.as_ref().filter(|_| can_change).map(|lc| {
+        let assumed = if o.is_static {
+            Rational::zero()
+        } else {
+            p.robot.V_a.clone()
+        };
+        (v.clone() + assumed) * Rational::int(lc.periods as i64) * p.robot.dt.clone()
+            + p.robot.buffer.clone()
+    });
+    let wrong =
+        p.robot.wrong_assumption_brake && !o.is_static && o.max_speed > p.robot.V_a && n >= 1;
+    Thresholds {
+        rho: p.robot.rho.clone(),
+        danger: danger_distance(p.controller_for(i), v),
+        lane_change,
+        rear_gap: p
+            .lane_change
+            .as_ref()
+            .filter(|_| can_change)
+            .map(|lc| lc.rear_gap.clone()),
+        wrong_above: wrong.then(|| p.robot.V_a.clone()),
+    }
+}
+
+/// Whether no guard can fire again at or after this step: every obstacle of the lane the
+/// robot is in (or moving into) is already seen at a gap ≤ 0 whatever it did (observed gaps
+/// never grow), and there is no goal.
+fn nothing_left(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    node: &Node,
+    lateral: &Lateral,
+    n: usize,
+) -> bool {
+    let seen_at = profile.at(p, n).position.clone();
+    p.obstacles.iter().enumerate().all(|(i, o)| {
+        o.lane != lateral.lane
+            || node.chains[i]
+                .reach_at(n.max(node.chains[i].last_step()))
+                .hi
+                .is_some_and(|h| h.at <= seen_at)
+    })
+}
+
+/// G: the first step at whose start the robot, driving on, has x + v²/(2b) ≥ goal (None:
+/// no goal, or not within the horizon).
+fn goal_step(p: &SceneParams<Rational>, profile: &mut Profile, horizon: usize) -> Option<usize> {
+    let goal = p.goal.as_ref()?;
+    let two_b = Rational::int(2) * p.robot.b.clone();
+    (0..=horizon).find(|&k| {
+        let s = profile.at(p, k);
+        s.position.clone() + s.speed.clone() * s.speed.clone() / two_b.clone() >= *goal
+    })
+}

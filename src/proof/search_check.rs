@@ -1,0 +1,212 @@
+//! `check` for search certificates: the answer recomputed from the scene alone, exactly,
+//! and the witness replayed.
+//!
+//! 1. the format tag and digest; the scene must be valid;
+//! 2. the exact search is run again on the scene: every obstacle's separation, s*, the
+//!    lower bound and the run counts must be what the certificate states;
+//! 3. the witness's starts and speeds must be allowed (starts in their ranges, speeds in
+//!    [0, W_i]); replayed exactly through the scene's step function they must reproduce its
+//!    trace, lane changes, brake, collision and separation, within 1e-6 m of s*;
+//! 4. the verdict must follow: `certified` iff s* > clearance, `refuted` iff the witness
+//!    collides.
+
+use crate::core::num::{Exact, Scalar, exact_float, f64_at_most};
+use crate::core::rational::Rational;
+use crate::core::scene::simulate;
+use crate::core::scene::{Position, SceneParams};
+use crate::proof::check::{CheckReport, Invalid};
+use crate::proof::scene_certificate::scene_premises;
+use crate::proof::scene_search::search_scene;
+use crate::proof::search_certificate::{
+    RunWitness, SEARCH_FORMAT, SearchCertificate, exact_text, obstacle_separations, witness_starts,
+};
+use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict};
+
+fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
+    Err(Invalid(msg.into()))
+}
+
+/// Re-verifies a search certificate without the solver.
+pub fn check_search(cert: &SearchCertificate) -> Result<CheckReport, Invalid> {
+    if cert.format != SEARCH_FORMAT {
+        return invalid(format!(
+            "format is {:?}, expected {SEARCH_FORMAT:?}",
+            cert.format
+        ));
+    }
+    if cert.compute_digest() != cert.digest {
+        return invalid("digest mismatch: the certificate was edited after it was written");
+    }
+    let scene = &cert.scene;
+    scene
+        .validate("certificate scene")
+        .map_err(|e| Invalid(format!("the certificate's scene is invalid: {e}")))?;
+    if cert.clearance != scene.robot.clearance {
+        return invalid("clearance differs from the scene's");
+    }
+    if cert.premises != scene_premises(scene) {
+        return invalid("premises differ from the scene's");
+    }
+    let search = search_scene(scene)
+        .map_err(|e| Invalid(format!("the search of the certificate's scene failed: {e}")))?;
+    let obstacles = obstacle_separations(scene, &search);
+    if obstacles != cert.obstacles {
+        return invalid(format!(
+            "per-obstacle separations differ from the search: stated {:?}, found {:?}",
+            cert.obstacles
+                .iter()
+                .map(|o| (&o.name, &o.exact, o.unbounded))
+                .collect::<Vec<_>>(),
+            obstacles
+                .iter()
+                .map(|o| (&o.name, &o.exact, o.unbounded))
+                .collect::<Vec<_>>()
+        ));
+    }
+    let star = search.min_separation().cloned();
+    if cert.min_separation_exact != star.as_ref().map(exact_text)
+        || cert.never_stops != search.unbounded()
+        || cert.lower_bound != star.as_ref().map(|s| f64_at_most(&s.to_exact()))
+        || cert.min_separation != star.as_ref().map(|s| s.to_exact().to_f64().value())
+    {
+        return invalid(format!(
+            "s* differs from the search: stated {:?} (never_stops {}), found {:?} (never_stops {})",
+            cert.min_separation_exact,
+            cert.never_stops,
+            star.as_ref().map(exact_text),
+            search.unbounded()
+        ));
+    }
+    if cert.nodes != search.stats.nodes || cert.runs != search.stats.leaves {
+        return invalid("the run counts differ from the search");
+    }
+    let collides = match &cert.witness {
+        Some(w) => check_witness(cert, w, star.as_ref())?,
+        None if search.worst.is_some() => return invalid("the certificate has no witness"),
+        None => false,
+    };
+    let clearance = Rational::from_exact(&<Exact as Scalar>::decimal(scene.robot.clearance));
+    let certified = !search.unbounded() && star.as_ref().is_none_or(|s| *s > clearance);
+    let verdict = if certified {
+        Verdict::Certified
+    } else if collides {
+        Verdict::Refuted
+    } else {
+        Verdict::Inconclusive
+    };
+    if certified && collides {
+        return invalid("s* is above the clearance but the witness collides");
+    }
+    if verdict != cert.verdict {
+        return invalid(format!(
+            "stated verdict {}, the search and witness give {}",
+            cert.verdict.as_str(),
+            verdict.as_str()
+        ));
+    }
+    Ok(CheckReport {
+        verdict,
+        pieces: search.stats.leaves,
+        lower_bound: star.map(|s| s.to_exact()),
+    })
+}
+
+/// Replays a witness exactly; returns whether it collides.
+fn check_witness(
+    cert: &SearchCertificate,
+    w: &RunWitness,
+    star: Option<&Rational>,
+) -> Result<bool, Invalid> {
+    let scene = &cert.scene;
+    let params: SceneParams<Exact> = scene.params();
+    if w.obstacle_speeds.len() != scene.obstacles.len() || w.starts.len() != scene.obstacles.len() {
+        return invalid("witness lists starts or speeds for another number of obstacles");
+    }
+    if w.obstacle >= scene.obstacles.len() || w.lane != scene.obstacles[w.obstacle].lane {
+        return invalid("witness names an obstacle or lane the scene does not have");
+    }
+    for (o, s) in scene.obstacles.iter().zip(&w.starts) {
+        let fits = match (o.position, s) {
+            (Position::At(_), None) => true,
+            (Position::Range(lo, hi), Some(x)) => {
+                x.is_finite()
+                    && exact_float(*x) >= <Exact as Scalar>::decimal(lo)
+                    && exact_float(*x) <= <Exact as Scalar>::decimal(hi)
+            }
+            _ => false,
+        };
+        if !fits {
+            return invalid(format!(
+                "witness start of obstacle {:?} is not in its position",
+                o.name
+            ));
+        }
+    }
+    for (i, speeds) in w.obstacle_speeds.iter().enumerate() {
+        let bound = &params.obstacles[i].max_speed;
+        if let Some(k) = speeds
+            .iter()
+            .position(|&s| !s.is_finite() || s < 0.0 || exact_float(s) > *bound)
+        {
+            return invalid(format!(
+                "witness speed of obstacle {:?} in period {k} is outside [0, W]",
+                scene.obstacles[i].name
+            ));
+        }
+    }
+    let periods = w.obstacle_speeds.iter().map(Vec::len).max().unwrap_or(0);
+    let starts = witness_starts(scene, &w.starts);
+    let replay = simulate::replay(
+        &params,
+        &w.obstacle_speeds,
+        &starts,
+        periods,
+        star.is_none(),
+    );
+    if replay.periods() != periods {
+        return invalid("witness lists speeds past the end of its run");
+    }
+    let steps = replay.trace();
+    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
+    let same = steps.len() == w.steps.len()
+        && steps.iter().zip(&w.steps).all(|(x, y)| {
+            let (a, b) = (&x.row, &y.row);
+            x.obstacle == y.obstacle
+                && x.robot_lane == y.robot_lane
+                && x.leaving_lane == y.leaving_lane
+                && x.obstacle_lane == y.obstacle_lane
+                && a.robot_mode == b.robot_mode
+                && close(a.t, b.t)
+                && close(a.robot_position, b.robot_position)
+                && close(a.robot_speed, b.robot_speed)
+                && close(a.obstacle_position, b.obstacle_position)
+                && close(a.obstacle_speed, b.obstacle_speed)
+                && close(a.gap, b.gap)
+        });
+    if !same {
+        return invalid("witness trace differs from its exact replay");
+    }
+    if replay.run.outcome.lane_changes != w.lane_changes || replay.run.outcome.brake != w.brake {
+        return invalid("witness lane changes or brake differ from its exact replay");
+    }
+    if replay.collided() != w.collides {
+        return invalid("witness collision flag differs from its exact replay");
+    }
+    let sep = replay.separations()[w.obstacle].as_ref().map(f64_at_most);
+    if sep != w.separation {
+        return invalid("witness separation differs from its exact replay");
+    }
+    match (star, w.separation) {
+        (Some(s), Some(r)) => {
+            let s = s.as_f64();
+            if !(r >= s - REPLAY_TOLERANCE && r - s <= REPLAY_TOLERANCE) {
+                return invalid("s* is not reproduced by the witness");
+            }
+        }
+        (None, _) if cert.never_stops && !w.collides => {
+            return invalid("never_stops requires a witness that collides");
+        }
+        _ => {}
+    }
+    Ok(replay.collided())
+}
