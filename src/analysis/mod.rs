@@ -8,6 +8,7 @@ mod monte_carlo;
 pub mod radius;
 pub mod report;
 pub mod scene;
+pub mod scene_answer;
 mod scene_monte_carlo;
 pub mod scene_radius;
 mod scene_witness;

@@ -72,6 +72,9 @@ pub enum SceneAnalysisError {
     /// The scene uses something the analyser does not decide yet.
     #[error("not analysed: {0}")]
     Unsupported(#[from] Unsupported),
+    /// The run search did not finish, or found an inconsistency.
+    #[error("{0}")]
+    Search(String),
     /// The engines disagree: a certified bound and a colliding witness. A bug, reported
     /// rather than resolved either way.
     #[error("internal inconsistency: {0}")]

@@ -12,7 +12,8 @@
 //! Along W the certified bounds form an interval from 0 up too: a larger bound only adds
 //! behaviours (Lemma R3, per obstacle, whichever obstacles the bound is given to).
 
-use crate::analysis::scene::{SceneAnalysis, SceneAnalysisError, analyse_scene};
+use crate::analysis::scene::SceneAnalysisError;
+use crate::analysis::scene_answer::SceneAnswer;
 use crate::core::scene::Scene;
 use crate::proof::verdict::Verdict;
 
@@ -29,9 +30,9 @@ pub struct SceneRadius {
     /// robot's lane (beyond which nothing changes).
     pub cap: f64,
     /// The analysis at `value` (certified), or at the cap when there is no radius.
-    pub at: SceneAnalysis,
+    pub at: SceneAnswer,
     /// The analysis just below `value` (not certified), when the search bracketed one.
-    pub below: Option<SceneAnalysis>,
+    pub below: Option<SceneAnswer>,
 }
 
 impl SceneRadius {
@@ -43,8 +44,8 @@ impl SceneRadius {
                 if let Some(b) = &self.below {
                     s += &format!(
                         "; at {:.6}: {}",
-                        b.scene.controller.reaction_radius,
-                        b.verdict.as_str()
+                        b.scene().controller.reaction_radius,
+                        b.verdict().as_str()
                     );
                 }
                 s + ")"
@@ -52,32 +53,43 @@ impl SceneRadius {
             None => format!(
                 "no safe radius up to {:.6} m ({}: {})",
                 self.cap,
-                if self.at.scene.sensing_range.is_some() {
+                if self.at.scene().sensing_range.is_some() {
                     "the sensing range"
                 } else {
                     "the farthest obstacle start in the robot's lane"
                 },
-                self.at.verdict.as_str()
+                self.at.verdict().as_str()
             ),
         }
     }
 }
 
-fn at(scene: &Scene, rho: f64) -> Result<SceneAnalysis, SceneAnalysisError> {
+fn at(scene: &Scene, rho: f64) -> Result<SceneAnswer, SceneAnalysisError> {
     let mut s = scene.clone();
     s.controller.reaction_radius = rho;
-    analyse_scene(&s)
+    SceneAnswer::of(&s)
 }
 
-/// Searches the smallest certified reaction radius of a (validated) scene.
+/// Searches the smallest certified reaction radius of a (validated) scene without lane
+/// changes. With lane changes the certified radii need not form an interval (a larger ρ can
+/// start a lane change that a smaller one would have answered by braking), so bisection
+/// would not find the smallest: such a scene is refused, and a sweep over
+/// `controller.reaction_radius` answers it point by point.
 pub fn scene_radius(scene: &Scene) -> Result<SceneRadius, SceneAnalysisError> {
+    if scene.lane_change.is_some() {
+        return Err(SceneAnalysisError::Search(
+            "the smallest safe radius is not searched with lane changes (the certified radii \
+             need not form an interval); sweep controller.reaction_radius instead"
+                .into(),
+        ));
+    }
     let farthest = scene
         .in_lane(0)
         .map(|i| scene.obstacles[i].position.max())
         .fold(TOLERANCE, f64::max);
     let cap = scene.sensing_range.unwrap_or(farthest);
     let top = at(scene, cap)?;
-    if top.verdict != Verdict::Certified {
+    if top.verdict() != Verdict::Certified {
         return Ok(SceneRadius {
             value: None,
             cap,
@@ -91,7 +103,7 @@ pub fn scene_radius(scene: &Scene) -> Result<SceneRadius, SceneAnalysisError> {
     while hi - lo > TOLERANCE {
         let mid = 0.5 * (lo + hi);
         let a = at(scene, mid)?;
-        if a.verdict == Verdict::Certified {
+        if a.verdict() == Verdict::Certified {
             hi = mid;
             best = a;
         } else {
@@ -115,9 +127,9 @@ pub struct SceneMaxSpeed {
     /// Certified up to the search's ceiling ([`SPEED_CEILING`]): no bound was found.
     pub unbounded: bool,
     /// The analysis at `value` (certified), or at 0 when there is none.
-    pub at: SceneAnalysis,
+    pub at: SceneAnswer,
     /// The analysis just above `value` (not certified).
-    pub above: Option<SceneAnalysis>,
+    pub above: Option<SceneAnswer>,
 }
 
 /// The largest bound the speed search tries (m/s).
@@ -141,8 +153,8 @@ pub fn scene_max_speed(
     target: Option<usize>,
 ) -> Result<SceneMaxSpeed, SceneAnalysisError> {
     let targets = |i: usize| target.is_none_or(|t| t == i);
-    let zero = analyse_scene(&with_speed(scene, &targets, 0.0))?;
-    if zero.verdict != Verdict::Certified {
+    let zero = SceneAnswer::of(&with_speed(scene, &targets, 0.0))?;
+    if zero.verdict() != Verdict::Certified {
         return Ok(SceneMaxSpeed {
             value: None,
             unbounded: false,
@@ -154,8 +166,8 @@ pub fn scene_max_speed(
     let (mut lo, mut best) = (0.0, zero);
     let mut hi = 0.1;
     let mut above = loop {
-        let a = analyse_scene(&with_speed(scene, &targets, hi))?;
-        if a.verdict != Verdict::Certified {
+        let a = SceneAnswer::of(&with_speed(scene, &targets, hi))?;
+        if a.verdict() != Verdict::Certified {
             break a;
         }
         (lo, best) = (hi, a);
@@ -171,8 +183,8 @@ pub fn scene_max_speed(
     };
     while hi - lo > TOLERANCE {
         let mid = 0.5 * (lo + hi);
-        let a = analyse_scene(&with_speed(scene, &targets, mid))?;
-        if a.verdict == Verdict::Certified {
+        let a = SceneAnswer::of(&with_speed(scene, &targets, mid))?;
+        if a.verdict() == Verdict::Certified {
             (lo, best) = (mid, a);
         } else {
             (hi, above) = (mid, a);
@@ -195,12 +207,12 @@ impl SceneMaxSpeed {
             }
             (Some(v), Some(a)) => format!(
                 "max obstacle speed {v:.6} m/s (certified; above it: {})",
-                a.verdict.as_str()
+                a.verdict().as_str()
             ),
             (Some(v), None) => format!("max obstacle speed {v:.6} m/s (certified)"),
             (None, _) => format!(
                 "no certified speed bound: even static obstacles give {}",
-                self.at.verdict.as_str()
+                self.at.verdict().as_str()
             ),
         }
     }

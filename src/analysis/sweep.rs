@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::scene::analyse_scene;
+use crate::analysis::scene_answer::SceneAnswer;
 use crate::analysis::{self, Options, SpeedPattern, Verdict, WitnessPolicy};
 use crate::core::model::{Problem, ProblemError};
 use crate::core::num::f64_at_most;
@@ -149,7 +149,7 @@ fn scene_cell(
     runs: usize,
     seed: u64,
 ) -> Result<CellResult, SweepError> {
-    let a = analyse_scene(scene).map_err(|e| SweepError::Analysis {
+    let a = SceneAnswer::of(scene).map_err(|e| SweepError::Analysis {
         cell,
         reason: e.to_string(),
     })?;
@@ -159,19 +159,15 @@ fn scene_cell(
     Ok(CellResult {
         cell,
         axes: axes_map(values),
-        verdict: a.verdict,
-        min_separation: a.min_separation,
-        never_stops: a.never_stops,
-        lower_bound: a.lower_bound.as_ref().map(f64_at_most),
+        verdict: a.verdict(),
+        min_separation: a.min_separation(),
+        never_stops: a.never_stops(),
+        lower_bound: a.lower_bound(),
         collisions: mc.as_ref().map(|m| m.collisions),
         runs: mc.as_ref().map(|m| m.runs),
         simulated_min_separation: mc.as_ref().and_then(|m| m.min_separation),
-        pieces: a
-            .obstacles
-            .iter()
-            .map(|o| o.own.len() + o.bystanders.len())
-            .sum(),
-        programs: a.programs_solved,
+        pieces: a.cases(),
+        programs: a.programs(),
     })
 }
 

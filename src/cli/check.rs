@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::Result;
+use safereach::proof::certificate_file::CertificateFile;
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -23,12 +24,17 @@ pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
     let cert = input::any_certificate(path, Unreadable::Reading)?;
     match cert.check() {
         Ok(report) => {
+            let over = match cert {
+                CertificateFile::Search(_) => {
+                    format!("by searching its {} runs again", report.pieces)
+                }
+                _ => format!("over {} pieces", report.pieces),
+            };
             writeln!(
                 out,
-                "{}: valid; verdict {} re-verified in exact arithmetic over {} pieces",
+                "{}: valid; verdict {} re-verified in exact arithmetic {over}",
                 path.display(),
                 report.verdict.as_str(),
-                report.pieces
             )?;
             Ok(Exit::Pass)
         }

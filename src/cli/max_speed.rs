@@ -8,7 +8,6 @@ use anyhow::{Context, Result};
 
 use safereach::analysis::radius;
 use safereach::core::scene::Scene;
-use safereach::proof::scene_certificate::SceneCertificate;
 
 use super::boundary::{answer, certificate_text};
 use super::exit::Exit;
@@ -76,7 +75,7 @@ fn scene_max_speed(scene: &Scene, args: &MaxSpeedArgs, out: &mut Output) -> Resu
     let m = safereach::analysis::scene_radius::scene_max_speed(scene, target)
         .map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
     if let (Some(path), Some(_)) = (&args.out, m.value) {
-        let text = serde_json::to_string_pretty(&SceneCertificate::from_analysis(&m.at))? + "\n";
+        let text = m.at.certificate().to_json();
         write_file(path, text.as_bytes())?;
     }
     let who = match &args.obstacle {

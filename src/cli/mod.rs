@@ -26,6 +26,7 @@ mod radius;
 mod report;
 mod scene_certify;
 mod scene_simulate;
+mod search_summary;
 mod simulate;
 mod sweep;
 

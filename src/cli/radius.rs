@@ -8,7 +8,6 @@ use anyhow::{Context, Result};
 
 use safereach::analysis::radius;
 use safereach::core::scene::Scene;
-use safereach::proof::scene_certificate::SceneCertificate;
 
 use super::boundary::{answer, certificate_text};
 use super::exit::Exit;
@@ -121,15 +120,14 @@ fn scene_radius(scene: &Scene, args: &RadiusArgs, out: &mut Output) -> Result<Ex
         };
         if let (Some(dir), Some(_)) = (&args.certificates, r.value) {
             create_dir(dir)?;
-            let cert = SceneCertificate::from_analysis(&r.at);
-            let text = serde_json::to_string_pretty(&cert)? + "\n";
+            let text = r.at.certificate().to_json();
             let name = w.map_or("radius.json".to_string(), |w| format!("radius-W{w}.json"));
             write_file(&dir.join(name), text.as_bytes())?;
         }
         if args.json {
             answers.push(serde_json::json!({
                 "speed": w, "obstacle": args.obstacle, "radius": r.value, "cap": r.cap,
-                "verdict_at_cap": r.value.is_none().then(|| r.at.verdict.as_str()),
+                "verdict_at_cap": r.value.is_none().then(|| r.at.verdict().as_str()),
             }));
         } else {
             writeln!(out, "{label}: {}", r.describe())?;

@@ -6,39 +6,44 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
-use safereach::analysis::scene::analyse_scene;
+use safereach::analysis::scene_answer::SceneAnswer;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
+use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::scene_certificate::{SceneCertificate, Trigger};
-use safereach::proof::scene_check::check_scene;
 use safereach::proof::schedule::Ending;
 
 use super::exit::Exit;
 use super::output::{Output, write_file};
+use super::search_summary::search_summary;
 
 /// Analyses a scene, writes its certificate and prints the answer; the exit code is the
-/// verdict's (0 certified, 1 refuted, 3 inconclusive). A scene the analyser does not decide
-/// yet (lane changes, position ranges) is an error naming why.
+/// verdict's (0 certified, 1 refuted, 3 inconclusive). Scenes with lane changes or position
+/// ranges are decided by the exact run search and get a search certificate.
 pub fn run(
     scene: &Scene,
     out_path: &Option<PathBuf>,
     json: bool,
     out: &mut Output,
 ) -> Result<Exit> {
-    let analysis = analyse_scene(scene).map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
-    let cert = SceneCertificate::from_analysis(&analysis);
-    check_scene(&cert)
+    let answer = SceneAnswer::of(scene).map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
+    let cert = answer.certificate();
+    cert.check()
         .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
-    let text = serde_json::to_string_pretty(&cert)? + "\n";
+    let text = cert.to_json();
     if let Some(path) = out_path {
         write_file(path, text.as_bytes())?;
     }
     if json {
         write!(out, "{text}")?;
     } else {
-        write!(out, "{}", summary(&cert))?;
+        match &cert {
+            CertificateFile::Scene(c) => write!(out, "{}", summary(c))?,
+            CertificateFile::Search(c) => write!(out, "{}", search_summary(c))?,
+            CertificateFile::Single(_) => unreachable!("a scene's answer is a scene certificate"),
+        }
     }
-    Ok(cert.verdict.into())
+    Ok(cert.verdict().into())
 }
 
 /// The human-readable answer.

@@ -10,6 +10,7 @@ use safereach::core::num::Exact;
 use safereach::core::output::scene_trace_for_path;
 use safereach::core::scene::{Scene, simulate};
 use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::search_certificate::witness_starts;
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -32,47 +33,62 @@ fn replay(
     args: &SimulateArgs,
     out: &mut Output,
 ) -> Result<Exit> {
-    let CertificateFile::Scene(cert) = input::any_certificate(path, Unreadable::Reading)? else {
-        anyhow::bail!(
-            "{}: a single-obstacle certificate; {} is a scene (replay it with its problem file)",
-            path.display(),
-            scene.name
-        );
-    };
-    let witness = cert.witness.as_ref().with_context(|| {
+    let no_witness = || {
         format!(
             "{}: the certificate has no witness to replay",
             path.display()
         )
-    })?;
+    };
     let params = scene.params::<Exact>();
-    if witness.obstacle_speeds.len() != scene.obstacles.len() {
+    let (speeds, starts, obstacle) = match input::any_certificate(path, Unreadable::Reading)? {
+        CertificateFile::Single(_) => anyhow::bail!(
+            "{}: a single-obstacle certificate; {} is a scene (replay it with its problem file)",
+            path.display(),
+            scene.name
+        ),
+        CertificateFile::Scene(cert) => {
+            let w = cert.witness.as_ref().with_context(no_witness)?;
+            let starts: Vec<Exact> = params
+                .obstacles
+                .iter()
+                .map(|o| o.start_min.clone())
+                .collect();
+            (w.obstacle_speeds.clone(), starts, w.obstacle)
+        }
+        CertificateFile::Search(cert) => {
+            let w = cert.witness.as_ref().with_context(no_witness)?;
+            if w.starts.len() != scene.obstacles.len() {
+                anyhow::bail!(
+                    "{}: the witness has starts for {} obstacles, the scene has {}",
+                    path.display(),
+                    w.starts.len(),
+                    scene.obstacles.len()
+                );
+            }
+            (
+                w.obstacle_speeds.clone(),
+                witness_starts(scene, &w.starts),
+                w.obstacle,
+            )
+        }
+    };
+    if speeds.len() != scene.obstacles.len() {
         anyhow::bail!(
             "{}: the witness has speeds for {} obstacles, the scene has {}",
             path.display(),
-            witness.obstacle_speeds.len(),
+            speeds.len(),
             scene.obstacles.len()
         );
     }
-    let periods = witness
-        .obstacle_speeds
-        .iter()
-        .map(Vec::len)
-        .max()
-        .unwrap_or(0);
-    let starts: Vec<Exact> = params
-        .obstacles
-        .iter()
-        .map(|o| o.start_min.clone())
-        .collect();
-    let replay = simulate::replay(&params, &witness.obstacle_speeds, &starts, periods, false);
+    let periods = speeds.iter().map(Vec::len).max().unwrap_or(0);
+    let replay = simulate::replay(&params, &speeds, &starts, periods, false);
     let rows = replay.trace();
     if let Some(trace) = &args.trace {
         write_file(trace, scene_trace_for_path(trace, &rows).as_bytes())?;
     }
     let seps = replay.separations();
-    let worst = &scene.obstacles[witness.obstacle].name;
-    let sep = seps[witness.obstacle].as_ref().map(|g| g.to_f64().value());
+    let worst = &scene.obstacles[obstacle].name;
+    let sep = seps[obstacle].as_ref().map(|g| g.to_f64().value());
     if args.json {
         writeln!(
             out,

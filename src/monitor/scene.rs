@@ -11,9 +11,14 @@
 use super::check::Bounds;
 use super::trace::Decoder;
 use super::{Monitor, MonitorError, ObstacleId, Outcome, Sample, Track, require_certified};
+use crate::core::scene::Scene;
 use crate::proof::certificate_file::CertificateFile;
+use crate::proof::check::CheckReport;
+use crate::proof::premise::Premise;
 use crate::proof::scene_certificate::SceneCertificate;
 use crate::proof::scene_check::check_scene;
+use crate::proof::search_certificate::SearchCertificate;
+use crate::proof::search_check::check_search;
 
 /// What a scene certificate assumed of one of its obstacles.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,7 +46,7 @@ pub(crate) struct SceneAssumptions {
 
 impl SceneAssumptions {
     /// The assumptions of `cert`'s scene, each bound usable (finite, not negative).
-    fn of(cert: &SceneCertificate) -> Result<SceneAssumptions, MonitorError> {
+    fn of(scene: &Scene, clearance: f64) -> Result<SceneAssumptions, MonitorError> {
         let usable = |name: &'static str, bound: f64| {
             if bound.is_finite() && bound >= 0.0 {
                 Ok(bound)
@@ -49,7 +54,6 @@ impl SceneAssumptions {
                 Err(MonitorError::BadBound { name, bound })
             }
         };
-        let scene = &cert.scene;
         let obstacles = scene
             .obstacles
             .iter()
@@ -65,7 +69,7 @@ impl SceneAssumptions {
             names: scene.obstacles.iter().map(|o| o.name.clone()).collect(),
             violations: vec![0; obstacles.len()],
             obstacles,
-            clearance: usable("clearance", cert.clearance)?,
+            clearance: usable("clearance", clearance)?,
         })
     }
 }
@@ -96,6 +100,7 @@ impl Monitor {
         match cert {
             CertificateFile::Single(c) => Monitor::new(c),
             CertificateFile::Scene(c) => Monitor::for_scene(c),
+            CertificateFile::Search(c) => Monitor::for_search(c),
         }
     }
 
@@ -108,7 +113,28 @@ impl Monitor {
         match cert {
             CertificateFile::Single(c) => Monitor::with_max_obstacles(c, max_obstacles),
             CertificateFile::Scene(c) => Monitor::for_scene_with_max_obstacles(c, max_obstacles),
+            CertificateFile::Search(c) => Self::build_from(
+                check_search(c)?,
+                &c.premises,
+                &c.scene,
+                c.clearance,
+                max_obstacles,
+                max_obstacles as usize,
+            ),
         }
+    }
+
+    /// A monitor for a search certificate (a scene with lane changes or position ranges),
+    /// as [`Monitor::for_scene`]: [`check_search`] runs first.
+    pub fn for_search(cert: &SearchCertificate) -> Result<Monitor, MonitorError> {
+        Self::build_from(
+            check_search(cert)?,
+            &cert.premises,
+            &cert.scene,
+            cert.clearance,
+            super::DEFAULT_MAX_OBSTACLES,
+            0,
+        )
     }
 
     fn build_scene(
@@ -116,10 +142,27 @@ impl Monitor {
         max_obstacles: u32,
         reserve: usize,
     ) -> Result<Monitor, MonitorError> {
-        let report = check_scene(cert)?;
+        Self::build_from(
+            check_scene(cert)?,
+            &cert.premises,
+            &cert.scene,
+            cert.clearance,
+            max_obstacles,
+            reserve,
+        )
+    }
+
+    fn build_from(
+        report: CheckReport,
+        premises: &[Premise],
+        scene: &Scene,
+        clearance: f64,
+        max_obstacles: u32,
+        reserve: usize,
+    ) -> Result<Monitor, MonitorError> {
         require_certified(report.verdict)?;
-        let bounds = Bounds::from_premises(&cert.premises)?;
-        let scene = SceneAssumptions::of(cert)?;
+        let bounds = Bounds::from_premises(premises)?;
+        let scene = SceneAssumptions::of(scene, clearance)?;
         Ok(Self::with_bounds(
             bounds,
             Some(scene),

@@ -1,5 +1,5 @@
 //! A certificate file of either kind, told apart by its `format` tag: a single-obstacle
-//! [`Certificate`] or a [`SceneCertificate`].
+//! [`Certificate`], a [`SceneCertificate`] or a [`SearchCertificate`].
 
 use serde::Deserialize;
 
@@ -8,6 +8,8 @@ use crate::proof::certificate::FORMAT;
 use crate::proof::certificate::{CheckReport, Invalid, check};
 use crate::proof::scene_certificate::{SCENE_FORMAT, SceneCertificate};
 use crate::proof::scene_check::check_scene;
+use crate::proof::search_certificate::{SEARCH_FORMAT, SearchCertificate};
+use crate::proof::search_check::check_search;
 use crate::proof::verdict::Verdict;
 
 pub use crate::proof::certificate::Certificate;
@@ -19,6 +21,8 @@ pub enum CertificateFile {
     Single(Box<Certificate>),
     /// A scene (`safereach-scene-certificate/1`).
     Scene(Box<SceneCertificate>),
+    /// A scene decided by the run search (`safereach-scene-search-certificate/1`).
+    Search(Box<SearchCertificate>),
 }
 
 /// Only the format tag, to choose the reader.
@@ -31,6 +35,11 @@ impl CertificateFile {
     /// Parses certificate JSON of either kind (strictly: unknown fields are refused).
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
         let tag: Tag = serde_json::from_str(text)?;
+        if tag.format == SEARCH_FORMAT {
+            return Ok(CertificateFile::Search(Box::new(serde_json::from_str(
+                text,
+            )?)));
+        }
         if tag.format == SCENE_FORMAT {
             Ok(CertificateFile::Scene(Box::new(serde_json::from_str(
                 text,
@@ -49,6 +58,7 @@ impl CertificateFile {
         match self {
             CertificateFile::Single(c) => check(c),
             CertificateFile::Scene(c) => check_scene(c),
+            CertificateFile::Search(c) => check_search(c),
         }
     }
 
@@ -57,6 +67,17 @@ impl CertificateFile {
         match self {
             CertificateFile::Single(c) => c.verdict,
             CertificateFile::Scene(c) => c.verdict,
+            CertificateFile::Search(c) => c.verdict,
         }
+    }
+
+    /// The certificate as pretty JSON with a final newline.
+    pub fn to_json(&self) -> String {
+        let text = match self {
+            CertificateFile::Single(c) => serde_json::to_string_pretty(c),
+            CertificateFile::Scene(c) => serde_json::to_string_pretty(c),
+            CertificateFile::Search(c) => serde_json::to_string_pretty(c),
+        };
+        text.expect("certificates serialise") + "\n"
     }
 }

@@ -127,21 +127,58 @@ fn bad_scene_input_exits_2() {
 }
 
 #[test]
-fn a_lane_change_scene_is_not_analysed_yet_and_says_so() {
+fn a_lane_change_scene_is_certified_by_the_search_and_its_certificate_checks() {
     let dir = tmp();
+    let cert = dir.path().join("lanes.json");
+    let text = stdout(
+        &safereach(dir.path())
+            .args([
+                "certify",
+                problem_file("seed-lanes.toml").to_str().unwrap(),
+                "--out",
+                cert.to_str().unwrap(),
+            ])
+            .assert()
+            .code(0)
+            .get_output(),
+    );
+    assert!(text.contains("seed-lanes: certified"), "{text}");
+    assert!(text.contains("changes from lane 0 to lane 1"), "{text}");
+    safereach(dir.path())
+        .args(["check", cert.to_str().unwrap()])
+        .assert()
+        .code(0)
+        .stdout(predicate::str::contains("by searching its"));
     safereach(dir.path())
         .args([
-            "certify",
-            problem_file("scene-oncoming.toml").to_str().unwrap(),
+            "simulate",
+            problem_file("seed-lanes.toml").to_str().unwrap(),
+            "--replay",
+            cert.to_str().unwrap(),
         ])
-        .args(["--set", "controller.lane_change=true"])
-        .args(["--set", "controller.lane_change_periods=10"])
-        .args(["--set", "controller.lane_change_rear_gap=0.5"])
+        .assert()
+        .code(0)
+        .stdout(predicate::str::contains("no collision"));
+    // An edited scene no longer matches its digest.
+    let edited = std::fs::read_to_string(&cert)
+        .unwrap()
+        .replace("\"rear_gap\": 0.5", "\"rear_gap\": 0.25");
+    std::fs::write(&cert, edited).unwrap();
+    safereach(dir.path())
+        .args(["check", cert.to_str().unwrap()])
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("INVALID"));
+}
+
+#[test]
+fn radius_refuses_lane_changes_and_says_why() {
+    let dir = tmp();
+    safereach(dir.path())
+        .args(["radius", problem_file("seed-lanes.toml").to_str().unwrap()])
         .assert()
         .code(2)
-        .stderr(predicate::str::contains(
-            "lane changes are not analysed yet",
-        ));
+        .stderr(predicate::str::contains("need not form an interval"));
 }
 
 #[test]
