@@ -131,7 +131,7 @@ fn a_lane_change_scene_is_certified_by_the_search_and_its_certificate_checks() {
     let dir = tmp();
     let cert = dir.path().join("lanes.json");
     let text = stdout(
-        &safereach(dir.path())
+        safereach(dir.path())
             .args([
                 "certify",
                 problem_file("seed-lanes.toml").to_str().unwrap(),
