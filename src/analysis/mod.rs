@@ -11,6 +11,7 @@ pub mod scene;
 mod scene_monte_carlo;
 pub mod scene_radius;
 mod scene_witness;
+pub mod scene_worst;
 pub mod sweep;
 
 pub use analyse::*;
