@@ -53,6 +53,18 @@ impl BrakeCause {
         }
     }
 
+    /// The cause in a few words, for a table: `collision danger`, `for "first"`.
+    pub fn short(&self) -> String {
+        match self {
+            BrakeCause::CollisionDanger => "collision danger".into(),
+            BrakeCause::WrongAssumption => "faster than V_a".into(),
+            BrakeCause::NeverBraked => "never braked".into(),
+            BrakeCause::AnotherObstacle(name) => format!("for \"{name}\""),
+            BrakeCause::Destination => "for the destination".into(),
+            BrakeCause::ElseUnknown => "for another obstacle or the destination".into(),
+        }
+    }
+
     /// The cause in words, as `certify` prints it (another obstacle's name in quotes after).
     pub fn describe(&self) -> String {
         match self {

@@ -24,4 +24,5 @@ mod scene_cli;
 mod scene_explore;
 mod scene_input;
 mod sweep;
+mod sweep_report;
 mod uppaal;
