@@ -278,3 +278,69 @@ fn scene_grid_curve_matches_single_obstacle_and_the_analyser() {
     assert!(md.contains("| 0.3 | none |"), "{md}");
     assert!(Path::new(&root().join("reports/scene-oncoming-grid-radius.svg")).exists());
 }
+
+/// A scene grid that varies one axis, and not an obstacle's bound, gets neither a heat map
+/// nor a curve, and its page says why for each.
+#[test]
+fn scene_grid_without_two_axes_says_why_it_has_no_figures() {
+    let dir = tmp();
+    std::fs::copy(
+        root().join("problems/scene-oncoming.toml"),
+        dir.path().join("scene-oncoming.toml"),
+    )
+    .unwrap();
+    let grid =
+        "base = \"scene-oncoming.toml\"\n[axes]\n\"controller.reaction_radius\" = [1.4, 1.8]\n";
+    std::fs::write(dir.path().join("one.toml"), grid).unwrap();
+    let out = dir.path().join("out");
+    safereach(dir.path())
+        .args(["report", "one.toml", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let md = std::fs::read_to_string(out.join("one.md")).unwrap();
+    assert!(
+        md.contains("No heat map: a heat map needs two axes"),
+        "{md}"
+    );
+    assert!(
+        md.contains("No safe-radius curve: the grid varies no obstacle's speed bound"),
+        "{md}"
+    );
+    assert!(!md.contains(".svg"), "{md}");
+    let files = crate::common::cli::files(&out);
+    assert!(files.iter().all(|f| !f.ends_with(".svg")), "{files:?}");
+}
+
+/// A scene cell's worst case survives JSON Lines (so `report --from` merges it) and is a
+/// CSV column; it is the analyser's witness obstacle.
+#[test]
+fn scene_worst_cases_round_trip_through_jsonl_and_csv() {
+    use safereach::analysis::sweep::{self, Grid, Shard};
+    let grid = Grid::load(&root().join("problems/scene-oncoming-grid.toml")).unwrap();
+    let results: Vec<_> = grid.run(Shard { index: 0, count: 8 }, 0, 0, || {}).unwrap();
+    let keys: Vec<String> = grid.axes.iter().map(|(k, _)| k.clone()).collect();
+    let back = sweep::from_jsonl(&sweep::to_jsonl(&results), &keys, "test").unwrap();
+    assert_eq!(back, results);
+    let csv = sweep::to_csv(&results, &keys);
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .ends_with(",worst_obstacle,worst_lane,worst_cause")
+    );
+    for r in &results {
+        let sweep::CellInput::Scene(scene) = grid.input(r.cell).unwrap() else {
+            panic!("scene cells");
+        };
+        let w = analyse_scene(&scene).unwrap().witness.unwrap();
+        let worst = r.worst.as_ref().expect("a worst case");
+        assert_eq!(
+            (worst.obstacle, worst.lane),
+            (w.obstacle, w.lane),
+            "cell {}",
+            r.cell
+        );
+        assert_eq!(worst.name, scene.obstacles[w.obstacle].name);
+    }
+}
