@@ -12,6 +12,7 @@ pub mod scene_answer;
 mod scene_monte_carlo;
 pub mod scene_radius;
 mod scene_witness;
+pub mod scene_worst;
 pub mod sweep;
 
 pub use analyse::*;

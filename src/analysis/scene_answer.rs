@@ -3,6 +3,7 @@
 //! ranges, else the run search ([`certify_by_search`]).
 
 use crate::analysis::scene::{SceneAnalysis, SceneAnalysisError, analyse_scene};
+use crate::analysis::scene_worst::SceneWorstCase;
 use crate::core::num::f64_at_most;
 use crate::core::scene::Scene;
 use crate::proof::certificate_file::CertificateFile;
@@ -88,6 +89,14 @@ impl SceneAnswer {
         match self {
             SceneAnswer::Schedule(a) => a.programs_solved,
             SceneAnswer::Search(_) => 0,
+        }
+    }
+
+    /// The worst case in words.
+    pub fn worst_case(&self) -> Option<SceneWorstCase> {
+        match self {
+            SceneAnswer::Schedule(a) => SceneWorstCase::of_analysis(a),
+            SceneAnswer::Search(c) => SceneWorstCase::of_search(c),
         }
     }
 

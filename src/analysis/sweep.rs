@@ -30,6 +30,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::scene_answer::SceneAnswer;
+use crate::analysis::scene_worst::SceneWorstCase;
 use crate::analysis::{self, Options, SpeedPattern, Verdict, WitnessPolicy};
 use crate::core::model::{Problem, ProblemError};
 use crate::core::num::f64_at_most;
@@ -126,6 +127,10 @@ pub struct CellResult {
     pub pieces: usize,
     /// Linear programs solved.
     pub programs: usize,
+    /// A scene cell's worst case: which obstacle, its lane, why the robot braked (absent
+    /// for single-obstacle cells, and when the scene analyser found none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst: Option<SceneWorstCase>,
 }
 
 /// The axis values of a cell as JSON, keyed by dotted key.
@@ -168,6 +173,7 @@ fn scene_cell(
         simulated_min_separation: mc.as_ref().and_then(|m| m.min_separation),
         pieces: a.cases(),
         programs: a.programs(),
+        worst: a.worst_case(),
     })
 }
 
@@ -364,6 +370,7 @@ impl Grid {
             simulated_min_separation: mc.as_ref().map(|m| m.min_separation),
             pieces: a.outcomes.len(),
             programs: a.programs_solved,
+            worst: None,
         })
     }
 
@@ -473,7 +480,13 @@ pub fn to_csv(results: &[CellResult], axis_keys: &[String]) -> String {
         out.push(',');
         out.push_str(k);
     }
-    out.push_str(",verdict,min_separation,never_stops,lower_bound,collisions,runs,simulated_min_separation,pieces,programs\n");
+    out.push_str(",verdict,min_separation,never_stops,lower_bound,collisions,runs,simulated_min_separation,pieces,programs");
+    // Scene cells add their worst case; single-obstacle CSV keeps its columns.
+    let scene = results.iter().any(|r| r.worst.is_some());
+    if scene {
+        out.push_str(",worst_obstacle,worst_lane,worst_cause");
+    }
+    out.push('\n');
     for r in results {
         out.push_str(&r.cell.to_string());
         for k in axis_keys {
@@ -482,7 +495,7 @@ pub fn to_csv(results: &[CellResult], axis_keys: &[String]) -> String {
         }
         let opt = |x: Option<f64>| x.map(|v| v.to_string()).unwrap_or_default();
         out.push_str(&format!(
-            ",{},{},{},{},{},{},{},{},{}\n",
+            ",{},{},{},{},{},{},{},{},{}",
             r.verdict.as_str(),
             opt(r.min_separation),
             r.never_stops,
@@ -493,8 +506,30 @@ pub fn to_csv(results: &[CellResult], axis_keys: &[String]) -> String {
             r.pieces,
             r.programs
         ));
+        if scene {
+            if let Some(w) = &r.worst {
+                out.push_str(&format!(
+                    ",{},{},{}",
+                    csv_quoted(&w.name),
+                    w.lane,
+                    csv_quoted(&w.cause.tag())
+                ));
+            } else {
+                out.push_str(",,,");
+            }
+        }
+        out.push('\n');
     }
     out
+}
+
+/// A CSV field, quoted (quotes doubled) when it holds a comma, a quote or a line break.
+fn csv_quoted(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }
 
 /// Merges shard results: sorted by cell, every cell of the grid exactly once.

@@ -78,7 +78,7 @@ fn shipped_grids() -> Result<Vec<PathBuf>> {
 /// Writes the grid's report (Markdown, figures, JSON Lines, CSV) into `dir`; returns the
 /// Markdown file's path.
 fn write_report(grid: &Grid, results: &[CellResult], dir: &Path) -> Result<PathBuf> {
-    let curve = report::radius_curve(grid, &curve_speeds(grid)).map_err(anyhow::Error::msg)?;
+    let curve = report::radius_curve(grid).map_err(anyhow::Error::msg)?;
     let rep = report::grid_report(grid, results, &curve);
     let md = dir.join(format!("{}.md", grid.name));
     write_file(&md, rep.markdown.as_bytes())?;
@@ -129,24 +129,4 @@ fn merged(grid: &Grid, dirs: &[PathBuf]) -> Result<Vec<CellResult>> {
         bail!("no results for grid {} in {:?}", grid.name, dirs);
     }
     sweep::merge(grid, parts).map_err(|e| anyhow::anyhow!("grid {}: {e}", grid.name))
-}
-
-/// Speeds at which the report draws ρ*(W): 0 to a little past the grid's fastest, by 0.01.
-fn curve_speeds(grid: &Grid) -> Vec<f64> {
-    let top = grid
-        .axes
-        .iter()
-        .filter(|(k, _)| k == "environment.obstacle_speed")
-        .flat_map(|(_, v)| {
-            v.iter()
-                .filter_map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64)))
-        })
-        .fold(0.0, f64::max);
-    if top <= 0.0 {
-        return Vec::new();
-    }
-    let steps = ((top + 0.05) / 0.01).round() as usize;
-    (0..=steps)
-        .map(|i| (i as f64 * 0.01 * 100.0).round() / 100.0)
-        .collect()
 }

@@ -7,11 +7,11 @@ use std::path::PathBuf;
 use anyhow::Result;
 
 use safereach::analysis::scene_answer::SceneAnswer;
+use safereach::analysis::scene_worst::SceneWorstCase;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
 use safereach::proof::certificate_file::CertificateFile;
-use safereach::proof::scene_certificate::{SceneCertificate, Trigger};
-use safereach::proof::schedule::Ending;
+use safereach::proof::scene_certificate::SceneCertificate;
 
 use super::exit::Exit;
 use super::output::{Output, write_file};
@@ -69,22 +69,7 @@ fn summary(cert: &SceneCertificate) -> String {
         None => s += "  no finite lower bound proved\n",
     }
     if let Some(w) = &cert.witness {
-        let name = &scene.obstacles[w.obstacle].name;
-        let why = match (&w.piece.ending, &w.trigger) {
-            (Ending::Bystander, Some(Trigger::Goal)) => "the robot brakes for its destination",
-            (Ending::Bystander, Some(Trigger::Obstacle { .. })) => {
-                "the robot brakes for another obstacle"
-            }
-            (Ending::PassThrough, _) => "it passes through the reaction area unbraked",
-            (Ending::WrongAssumption, _) => "the robot brakes on seeing it faster than V_a",
-            _ => "the robot brakes on collision danger",
-        };
-        let trigger = match &w.trigger {
-            Some(Trigger::Obstacle { obstacle, .. }) => {
-                format!(" (\"{}\")", scene.obstacles[*obstacle].name)
-            }
-            _ => String::new(),
-        };
+        let worst = SceneWorstCase::from_witness(scene, w);
         let brake = w
             .steps
             .iter()
@@ -92,8 +77,8 @@ fn summary(cert: &SceneCertificate) -> String {
             .map(|r| format!(", robot brakes at t = {:.3} s", r.row.t))
             .unwrap_or_default();
         s += &format!(
-            "  worst case: obstacle \"{name}\" in lane {}: {why}{trigger}{brake}; {}\n",
-            w.lane,
+            "  worst case: {}{brake}; {}\n",
+            worst.describe(),
             if w.collides {
                 "collides".to_string()
             } else {

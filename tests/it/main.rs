@@ -25,4 +25,5 @@ mod scene_explore;
 mod scene_input;
 mod scene_search;
 mod sweep;
+mod sweep_report;
 mod uppaal;

@@ -1,13 +1,15 @@
 //! The safe-radius curve ρ*(W) with the grid's cells overlaid as dots coloured by verdict:
-//! axes with round ticks, the assumed speed V_a as a dashed line, and a short legend.
+//! axes with round ticks, the assumed speed V_a as a dashed line, and a short legend. W is
+//! the single obstacle's bound, or the bound W_i of the scene obstacle the grid varies.
 
 use std::fmt::Write as _;
 
 use super::CurvePoint;
+use super::RADIUS_KEY;
+use super::axes::AxisLabel;
 use super::cells::{axis_value, sorted_values};
 use super::palette::{self, CERTIFIED, NONE};
 use super::svg::{END, MIDDLE, Svg, d1};
-use super::{RADIUS_KEY, SPEED_KEY};
 use crate::analysis::sweep::CellResult;
 
 /// Figure width, in pixels.
@@ -23,38 +25,44 @@ const TOP: f64 = 40.0;
 /// Bottom margin (room for the W ticks and title).
 const BOTTOM: f64 = 60.0;
 
-/// The safe-radius curve with the grid's cells overlaid.
+/// The safe-radius curve over the speed axis `speed` with the grid's cells overlaid.
 pub(super) fn curve_plot(
     results: &[CellResult],
     curve: &[CurvePoint],
+    speed: &AxisLabel,
     assumed: Option<f64>,
 ) -> String {
-    let frame = Frame::new(results, curve);
+    let frame = Frame::new(results, curve, speed);
+    let w = speed.symbol.as_deref().unwrap_or("W");
     let mut svg = Svg::new(WIDTH as u32, HEIGHT as u32);
-    svg.title(WIDTH / 2.0, "Smallest certified reaction radius ρ*(W)");
+    svg.title(
+        WIDTH / 2.0,
+        &format!("Smallest certified reaction radius ρ*({w})"),
+    );
     axes(&mut svg, &frame);
     if let Some(va) = assumed.filter(|va| *va <= frame.wmax) {
         assumption_line(&mut svg, &frame, va);
     }
     curve_line(&mut svg, &frame, curve);
     cell_dots(&mut svg, &frame, results);
-    legend(&mut svg);
+    legend(&mut svg, w);
     svg.finish()
 }
 
-/// The data ranges and their mapping to pixels (W to the right, ρ upwards).
-struct Frame {
+/// The data ranges and their mapping to pixels (W to the right, ρ upwards), and W's axis.
+struct Frame<'a> {
     wmax: f64,
     rmax: f64,
+    speed: &'a AxisLabel,
 }
 
-impl Frame {
+impl Frame<'_> {
     /// Ranges covering the curve and the cells, ρ with 15% headroom rounded up to 0.1.
-    fn new(results: &[CellResult], curve: &[CurvePoint]) -> Frame {
+    fn new<'a>(results: &[CellResult], curve: &[CurvePoint], speed: &'a AxisLabel) -> Frame<'a> {
         let wmax = curve
             .iter()
             .map(|c| c.0)
-            .chain(sorted_values(results, SPEED_KEY))
+            .chain(sorted_values(results, &speed.key))
             .fold(0.0, f64::max);
         let rmax_data = curve
             .iter()
@@ -62,7 +70,7 @@ impl Frame {
             .chain(sorted_values(results, RADIUS_KEY))
             .fold(0.0, f64::max);
         let rmax = (rmax_data * 1.15 * 10.0).ceil() / 10.0;
-        Frame { wmax, rmax }
+        Frame { wmax, rmax, speed }
     }
 
     fn sx(&self, w: f64) -> f64 {
@@ -92,12 +100,7 @@ fn axes(svg: &mut Svg, f: &Frame) {
         );
     }
     let centre = (LEFT + right) / 2.0;
-    svg.text(
-        centre,
-        HEIGHT - 18.0,
-        MIDDLE,
-        "obstacle speed bound W (m/s)",
-    );
+    svg.text(centre, HEIGHT - 18.0, MIDDLE, &f.speed.titled());
     svg.vertical_label((TOP + bottom) / 2.0, "reaction radius ρ (m)");
 }
 
@@ -133,7 +136,7 @@ fn assumption_line(svg: &mut Svg, f: &Frame, va: f64) {
 /// Each cell on the (W, ρ) plane as a dot in its verdict colour.
 fn cell_dots(svg: &mut Svg, f: &Frame, results: &[CellResult]) {
     for r in results {
-        if let (Some(w), Some(rho)) = (axis_value(r, SPEED_KEY), axis_value(r, RADIUS_KEY)) {
+        if let (Some(w), Some(rho)) = (axis_value(r, &f.speed.key), axis_value(r, RADIUS_KEY)) {
             let (cx, cy) = (d1(f.sx(w)), d1(f.sy(rho)));
             let ring = " stroke=\"black\" stroke-width=\"0.5\"";
             svg.circle(cx, cy, 5, palette::color(r), ring);
@@ -142,7 +145,7 @@ fn cell_dots(svg: &mut Svg, f: &Frame, results: &[CellResult]) {
 }
 
 /// What the line, the crosses and the dots mean, top left inside the axes.
-fn legend(svg: &mut Svg) {
+fn legend(svg: &mut Svg, w: &str) {
     let lx = LEFT + 12.0;
     let certified = format!(" fill=\"{CERTIFIED}\"");
     let none = format!(" fill=\"{NONE}\"");
@@ -150,7 +153,7 @@ fn legend(svg: &mut Svg) {
         lx,
         TOP + 14.0,
         &certified,
-        "— ρ*(W): certified above the curve",
+        &format!("— ρ*({w}): certified above the curve"),
     );
     svg.text(lx, TOP + 30.0, &none, "× no radius is certified");
     svg.text(lx, TOP + 46.0, "", "● grid cells, coloured by verdict");

@@ -1,38 +1,50 @@
 //! The seed paper's findings checked against a sweep's cells: (a) small radii collide under
 //! the assumption, (b) fast obstacles beat the largest radius, (c) a suitable radius is safe
-//! beyond the assumption; and whether simulation agrees with the certificates.
+//! beyond the assumption; whether simulation agrees with the certificates; and for a scene
+//! grid, which obstacle is the worst case in which cells, in which lane, and why.
 
 use std::fmt::Write as _;
 
-use super::cells::axis_value;
-use super::{ASSUMED_KEY, RADIUS_KEY, SPEED_KEY};
+use super::axes::{is_speed_bound, obstacle_field};
+use super::cells::{axis_value, separation};
+use super::{ASSUMED_KEY, RADIUS_KEY};
 use crate::analysis::Verdict;
 use crate::analysis::sweep::CellResult;
 
-/// The findings section as a Markdown list (`assumed`: the controller's assumed speed V_a).
-pub(super) fn findings(results: &[CellResult], assumed: Option<f64>) -> String {
-    let Some(va) = assumed else {
+/// Cells listed by name in a scene's worst-case lines before the rest are counted.
+const LISTED: usize = 8;
+
+/// The findings section as a Markdown list: `speed` is the obstacle speed-bound axis (W, or
+/// a scene obstacle's W_i), `assumed` the controller's assumed speed V_a.
+pub(super) fn findings(
+    results: &[CellResult],
+    speed: Option<&str>,
+    assumed: Option<f64>,
+) -> String {
+    let (Some(speed), Some(va)) = (speed, assumed) else {
         return "The grid has no obstacle-speed axis; the paper's findings are not applicable.\n"
             .into();
     };
     let mut s = String::new();
-    paper_findings(&mut s, results, va);
+    paper_findings(&mut s, results, speed, va);
     simulation_agreement(&mut s, results);
     missed_worst_cases(&mut s, results);
     s
 }
 
-/// A cell named by its axis values, e.g. `(W = 0.25, ρ = 1.2)` (the assumed speed left out).
+/// A cell named by its axis values, e.g. `(W = 0.25, ρ = 1.2)` or `(W_1 = 0.3, ρ = 1.2)`
+/// (the assumed speed left out).
 fn cell_name(r: &CellResult) -> String {
     let parts: Vec<String> = r
         .axes
         .iter()
         .filter(|(k, _)| k.as_str() != ASSUMED_KEY)
         .map(|(k, v)| {
-            let short = match k.as_str() {
-                SPEED_KEY => "W",
-                RADIUS_KEY => "ρ",
-                other => other,
+            let short = match (k.as_str(), obstacle_field(k)) {
+                (RADIUS_KEY, _) => "ρ".to_string(),
+                (_, Some((i, _))) if is_speed_bound(k) => format!("W_{i}"),
+                (other, _) if is_speed_bound(other) => "W".to_string(),
+                (other, _) => other.to_string(),
             };
             format!("{short} = {v}")
         })
@@ -50,8 +62,12 @@ fn select(results: &[CellResult], keep: impl Fn(&CellResult) -> bool) -> Vec<&Ce
 }
 
 /// Findings (a), (b) and (c): each holds when some cell shows it.
-fn paper_findings(s: &mut String, results: &[CellResult], va: f64) {
-    let speed = |r: &CellResult| axis_value(r, SPEED_KEY);
+fn paper_findings(s: &mut String, results: &[CellResult], key: &str, va: f64) {
+    let speed = |r: &CellResult| axis_value(r, key);
+    let w = match obstacle_field(key) {
+        Some((i, _)) => format!("W_{i}"),
+        None => "W".to_string(),
+    };
     let rho = |r: &CellResult| axis_value(r, RADIUS_KEY);
     let max_rho = results
         .iter()
@@ -66,7 +82,7 @@ fn paper_findings(s: &mut String, results: &[CellResult], va: f64) {
     finding(
         s,
         &format!(
-            "(a) Too small a reaction radius collides even when the assumption holds (W ≤ V_a = {va})"
+            "(a) Too small a reaction radius collides even when the assumption holds ({w} ≤ V_a = {va})"
         ),
         &a,
         "refuted",
@@ -79,7 +95,9 @@ fn paper_findings(s: &mut String, results: &[CellResult], va: f64) {
     );
     finding(
         s,
-        "(c) A suitable radius keeps the robot safe beyond its assumption (W > V_a certified)",
+        &format!(
+            "(c) A suitable radius keeps the robot safe beyond its assumption ({w} > V_a certified)"
+        ),
         &c,
         "certified",
     );
@@ -142,4 +160,64 @@ fn missed_worst_cases(s: &mut String, results: &[CellResult]) {
             list(&missed)
         );
     }
+}
+
+/// A scene grid's worst cases: for each (obstacle, lane, cause), the cells where it is the
+/// worst case; then the cell with the least s*.
+pub(super) fn scene_worst_cases(results: &[CellResult]) -> String {
+    let mut s = String::new();
+    let mut groups: Vec<(String, Vec<&CellResult>)> = Vec::new();
+    for r in results {
+        let what = match &r.worst {
+            Some(w) => w.describe(),
+            None => "no worst case was found (nothing in reach, or nothing realised)".into(),
+        };
+        match groups.iter_mut().find(|(d, _)| *d == what) {
+            Some((_, cells)) => cells.push(r),
+            None => groups.push((what, vec![r])),
+        }
+    }
+    for (what, cells) in &groups {
+        let shown: Vec<&CellResult> = cells.iter().take(LISTED).copied().collect();
+        let more = match cells.len() - shown.len() {
+            0 => String::new(),
+            n => format!(" and {n} more"),
+        };
+        let _ = writeln!(
+            s,
+            "- {what} — {} of {} cells: {}{more}.",
+            cells.len(),
+            results.len(),
+            list(&shown)
+        );
+    }
+    let least = results
+        .iter()
+        .filter(|r| r.never_stops || r.min_separation.is_some())
+        .min_by(|a, b| {
+            let key = |r: &CellResult| {
+                if r.never_stops {
+                    f64::NEG_INFINITY
+                } else {
+                    r.min_separation.unwrap_or(f64::INFINITY)
+                }
+            };
+            key(a).total_cmp(&key(b))
+        });
+    if let Some(r) = least {
+        let why = r
+            .worst
+            .as_ref()
+            .map(|w| format!(": {}", w.describe()))
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "- The least s* on the grid is {} m, at cell {} {} ({}){why}.",
+            separation(r),
+            r.cell,
+            cell_name(r),
+            r.verdict.as_str()
+        );
+    }
+    s
 }
