@@ -10,7 +10,7 @@ use safereach::core::num::Exact;
 use safereach::core::output::scene_trace_for_path;
 use safereach::core::scene::{Scene, simulate};
 use safereach::proof::certificate_file::CertificateFile;
-use safereach::proof::search_certificate::witness_starts;
+use safereach::proof::search_certificate::{exact_from_text, witness_starts};
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -53,21 +53,39 @@ fn replay(
                 .iter()
                 .map(|o| o.start_min.clone())
                 .collect();
-            (w.obstacle_speeds.clone(), starts, w.obstacle)
+            (
+                Speeds::Floats(w.obstacle_speeds.clone()),
+                starts,
+                w.obstacle,
+            )
         }
         CertificateFile::Search(cert) => {
             let w = cert.witness.as_ref().with_context(no_witness)?;
-            if w.starts.len() != scene.obstacles.len() {
+            let exact = |t: &String| {
+                exact_from_text(t)
+                    .with_context(|| format!("{}: {t:?} is not an exact number", path.display()))
+            };
+            let starts = w
+                .starts
+                .iter()
+                .map(|s| s.as_ref().map(exact).transpose())
+                .collect::<Result<Vec<_>>>()?;
+            if starts.len() != scene.obstacles.len() {
                 anyhow::bail!(
                     "{}: the witness has starts for {} obstacles, the scene has {}",
                     path.display(),
-                    w.starts.len(),
+                    starts.len(),
                     scene.obstacles.len()
                 );
             }
+            let speeds = w
+                .obstacle_speeds
+                .iter()
+                .map(|ws| ws.iter().map(exact).collect::<Result<Vec<_>>>())
+                .collect::<Result<Vec<_>>>()?;
             (
-                w.obstacle_speeds.clone(),
-                witness_starts(scene, &w.starts),
+                Speeds::Exact(speeds),
+                witness_starts(scene, &starts),
                 w.obstacle,
             )
         }
@@ -80,8 +98,11 @@ fn replay(
             scene.obstacles.len()
         );
     }
-    let periods = speeds.iter().map(Vec::len).max().unwrap_or(0);
-    let replay = simulate::replay(&params, &speeds, &starts, periods, false);
+    let periods = speeds.periods();
+    let replay = match &speeds {
+        Speeds::Floats(f) => simulate::replay(&params, f, &starts, periods, false),
+        Speeds::Exact(e) => simulate::replay_exact_speeds(&params, e, &starts, periods, false),
+    };
     let rows = replay.trace();
     if let Some(trace) = &args.trace {
         write_file(trace, scene_trace_for_path(trace, &rows).as_bytes())?;
@@ -145,4 +166,26 @@ fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> 
         )?;
     }
     Ok(Exit::fail_if(mc.collisions > 0))
+}
+
+/// A witness's speeds: floats (scene certificates) or exact numbers (search certificates).
+enum Speeds {
+    Floats(Vec<Vec<f64>>),
+    Exact(Vec<Vec<Exact>>),
+}
+
+impl Speeds {
+    fn len(&self) -> usize {
+        match self {
+            Speeds::Floats(f) => f.len(),
+            Speeds::Exact(e) => e.len(),
+        }
+    }
+
+    fn periods(&self) -> usize {
+        match self {
+            Speeds::Floats(f) => f.iter().map(Vec::len).max().unwrap_or(0),
+            Speeds::Exact(e) => e.iter().map(Vec::len).max().unwrap_or(0),
+        }
+    }
 }

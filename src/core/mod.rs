@@ -5,7 +5,7 @@ pub mod model;
 pub mod num;
 pub mod output;
 pub mod parameter;
-pub(crate) mod rational;
+pub mod rational;
 pub mod scene;
 pub mod semantics;
 pub mod simulate;

@@ -12,7 +12,7 @@
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::core::num::{Exact, Scalar, exact_float, f64_at_most};
+use crate::core::num::{Exact, Scalar, f64_at_most};
 use crate::core::rational::Rational;
 use crate::core::scene::simulate::{self, SceneTraceRow};
 use crate::core::scene::{LaneChangeEvent, Position, Scene, SceneParams};
@@ -53,12 +53,13 @@ pub struct RunWitness {
     pub obstacle: usize,
     /// Its lane.
     pub lane: i32,
-    /// Per obstacle, its start when its position is a range (the exact value of the
-    /// float); null for a fixed position.
-    pub starts: Vec<Option<f64>>,
-    /// Speeds per obstacle (scene order) per period, each the exact value of the float;
-    /// W_i after the last.
-    pub obstacle_speeds: Vec<Vec<f64>>,
+    /// Per obstacle, its start when its position is a range, as an exact number ("p/q");
+    /// null for a fixed position.
+    pub starts: Vec<Option<String>>,
+    /// Speeds per obstacle (scene order) per period, as exact numbers ("p/q": the search's
+    /// worst cases sit on guard thresholds such as V_a, which a float would cross); W_i
+    /// after the last.
+    pub obstacle_speeds: Vec<Vec<String>>,
     /// The lane changes of the run.
     pub lane_changes: Vec<LaneChangeEvent>,
     /// The step at whose start the robot brakes, and why (null: it never brakes).
@@ -132,6 +133,14 @@ pub enum SearchError {
 /// The exact rational as "p/q" (or "p").
 pub fn exact_text(r: &Rational) -> String {
     r.to_exact().to_string()
+}
+
+/// Reads "p/q" or "p" (integers) exactly; None when it is not such a number.
+pub fn exact_from_text(text: &str) -> Option<Exact> {
+    let (num, den) = text.split_once('/').unwrap_or((text, "1"));
+    let n: dashu_int::IBig = num.trim().parse().ok()?;
+    let d: dashu_int::UBig = den.trim().parse().ok()?;
+    (d != dashu_int::UBig::ZERO).then(|| Exact::from_parts(n, d))
 }
 
 /// Each obstacle's answer, from a search.
@@ -218,23 +227,18 @@ fn witness(
         _ => nano,
     };
     let (starts, speeds) = worst_behaviour(scene, run, &slack)?;
-    let params: SceneParams<Exact> = scene.params();
-    let starts: Vec<Option<f64>> = scene
+    let starts: Vec<Option<Exact>> = scene
         .obstacles
         .iter()
         .zip(&starts)
         .map(|(o, s)| match o.position {
             Position::At(_) => None,
-            Position::Range(lo, hi) => Some(s.as_f64().clamp(lo, hi)),
+            Position::Range(..) => Some(s.to_exact()),
         })
         .collect();
-    let floats: Vec<Vec<f64>> = speeds
+    let speeds: Vec<Vec<Exact>> = speeds
         .iter()
-        .zip(&params.obstacles)
-        .map(|(ws, o)| {
-            let top = f64_at_most(&o.max_speed);
-            ws.iter().map(|w| w.as_f64().clamp(0.0, top)).collect()
-        })
+        .map(|ws| ws.iter().map(Rational::to_exact).collect())
         .collect();
     let last = match &run.leaf.ending {
         Ending::Brake { step, .. } => *step,
@@ -244,40 +248,40 @@ fn witness(
     Some(replay_witness(
         scene,
         run.obstacle,
-        starts,
-        floats,
+        &starts,
+        speeds,
         max_steps,
         star.is_none(),
     ))
 }
 
-/// The exact starts of a witness: the fixed positions, or the floats given for ranges.
-pub fn witness_starts(scene: &Scene, starts: &[Option<f64>]) -> Vec<Exact> {
+/// The exact starts of a witness: the fixed positions, or the numbers given for ranges.
+pub fn witness_starts(scene: &Scene, starts: &[Option<Exact>]) -> Vec<Exact> {
     let params: SceneParams<Exact> = scene.params();
     params
         .obstacles
         .iter()
         .zip(starts)
-        .map(|(o, s)| s.map_or_else(|| o.start_min.clone(), exact_float))
+        .map(|(o, s)| s.clone().unwrap_or_else(|| o.start_min.clone()))
         .collect()
 }
 
-/// Replays speeds (W_i after the last) from starts, padded to `max_steps`, into a witness
-/// for obstacle `obstacle`.
+/// Replays exact speeds (W_i after the last) from starts, up to `max_steps`, into a
+/// witness for obstacle `obstacle`.
 pub fn replay_witness(
     scene: &Scene,
     obstacle: usize,
-    starts: Vec<Option<f64>>,
-    mut speeds: Vec<Vec<f64>>,
+    starts: &[Option<Exact>],
+    mut speeds: Vec<Vec<Exact>>,
     max_steps: usize,
     stop_at_collision: bool,
 ) -> RunWitness {
     let params: SceneParams<Exact> = scene.params();
     for (s, o) in speeds.iter_mut().zip(&params.obstacles) {
-        s.resize(max_steps.max(s.len()), f64_at_most(&o.max_speed));
+        s.resize(max_steps.max(s.len()), o.max_speed.clone());
     }
-    let exact_starts = witness_starts(scene, &starts);
-    let replay = simulate::replay(
+    let exact_starts = witness_starts(scene, starts);
+    let replay = simulate::replay_exact_speeds(
         &params,
         &speeds,
         &exact_starts,
@@ -290,8 +294,14 @@ pub fn replay_witness(
     RunWitness {
         obstacle,
         lane: scene.obstacles[obstacle].lane,
-        starts,
-        obstacle_speeds: speeds,
+        starts: starts
+            .iter()
+            .map(|s| s.as_ref().map(Exact::to_string))
+            .collect(),
+        obstacle_speeds: speeds
+            .iter()
+            .map(|ws| ws.iter().map(Exact::to_string).collect())
+            .collect(),
         lane_changes: replay.run.outcome.lane_changes.clone(),
         brake: replay.run.outcome.brake,
         collides: replay.collided(),

@@ -10,7 +10,7 @@
 //! 4. the verdict must follow: `certified` iff s* > clearance, `refuted` iff the witness
 //!    collides.
 
-use crate::core::num::{Exact, Scalar, exact_float, f64_at_most};
+use crate::core::num::{Exact, Scalar, f64_at_most};
 use crate::core::rational::Rational;
 use crate::core::scene::simulate;
 use crate::core::scene::{Position, SceneParams};
@@ -18,7 +18,8 @@ use crate::proof::check::{CheckReport, Invalid};
 use crate::proof::scene_certificate::scene_premises;
 use crate::proof::scene_search::search_scene;
 use crate::proof::search_certificate::{
-    RunWitness, SEARCH_FORMAT, SearchCertificate, exact_text, obstacle_separations, witness_starts,
+    RunWitness, SEARCH_FORMAT, SearchCertificate, exact_from_text, exact_text,
+    obstacle_separations, witness_starts,
 };
 use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict};
 
@@ -125,44 +126,51 @@ fn check_witness(
     if w.obstacle >= scene.obstacles.len() || w.lane != scene.obstacles[w.obstacle].lane {
         return invalid("witness names an obstacle or lane the scene does not have");
     }
+    let mut starts: Vec<Option<Exact>> = Vec::new();
     for (o, s) in scene.obstacles.iter().zip(&w.starts) {
-        let fits = match (o.position, s) {
-            (Position::At(_), None) => true,
-            (Position::Range(lo, hi), Some(x)) => {
-                x.is_finite()
-                    && exact_float(*x) >= <Exact as Scalar>::decimal(lo)
-                    && exact_float(*x) <= <Exact as Scalar>::decimal(hi)
-            }
-            _ => false,
+        let start = match (o.position, s) {
+            (Position::At(_), None) => Some(None),
+            (Position::Range(lo, hi), Some(text)) => exact_from_text(text)
+                .filter(|x| {
+                    *x >= <Exact as Scalar>::decimal(lo) && *x <= <Exact as Scalar>::decimal(hi)
+                })
+                .map(Some),
+            _ => None,
         };
-        if !fits {
+        let Some(start) = start else {
             return invalid(format!(
                 "witness start of obstacle {:?} is not in its position",
                 o.name
             ));
-        }
+        };
+        starts.push(start);
     }
-    for (i, speeds) in w.obstacle_speeds.iter().enumerate() {
+    let mut speeds: Vec<Vec<Exact>> = Vec::new();
+    for (i, texts) in w.obstacle_speeds.iter().enumerate() {
         let bound = &params.obstacles[i].max_speed;
-        if let Some(k) = speeds
+        let read: Option<Vec<Exact>> = texts
             .iter()
-            .position(|&s| !s.is_finite() || s < 0.0 || exact_float(s) > *bound)
-        {
+            .map(|t| exact_from_text(t).filter(|x| *x >= Exact::ZERO && x <= bound))
+            .collect();
+        let Some(read) = read else {
             return invalid(format!(
-                "witness speed of obstacle {:?} in period {k} is outside [0, W]",
+                "a witness speed of obstacle {:?} is not a number in [0, W]",
                 scene.obstacles[i].name
             ));
-        }
+        };
+        speeds.push(read);
     }
-    let periods = w.obstacle_speeds.iter().map(Vec::len).max().unwrap_or(0);
-    let starts = witness_starts(scene, &w.starts);
-    let replay = simulate::replay(
-        &params,
-        &w.obstacle_speeds,
-        &starts,
-        periods,
-        star.is_none(),
-    );
+    let periods = speeds.iter().map(Vec::len).max().unwrap_or(0);
+    let exact_starts = witness_starts(scene, &starts);
+    // A run that ended by itself (at rest, settled, or at a collision it stops at) ends
+    // there again given one period more; one cut off at its step cap runs on, and is
+    // replayed to exactly its length.
+    let stop = star.is_none();
+    let mut replay =
+        simulate::replay_exact_speeds(&params, &speeds, &exact_starts, periods + 1, stop);
+    if replay.periods() > periods {
+        replay = simulate::replay_exact_speeds(&params, &speeds, &exact_starts, periods, stop);
+    }
     if replay.periods() != periods {
         return invalid("witness lists speeds past the end of its run");
     }

@@ -974,3 +974,182 @@ fn cli_scene_budget_and_bad_input() {
         "{text}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// The exact run search (proof::scene_search) against the explorer and the schedule analyser
+// ---------------------------------------------------------------------------------------------
+
+mod run_search {
+    use safereach::core::rational::Rational;
+    use safereach::proof::scene_search::search_scene;
+    use safereach::proof::search_certificate::certify_by_search;
+    use safereach::proof::search_check::check_search;
+
+    use super::*;
+
+    /// s* of the search as an exact number (None: −∞ or nothing measured).
+    fn star(scene: &Scene) -> (Option<Exact>, bool) {
+        let s = search_scene(scene).expect("the search finishes");
+        (s.min_separation().map(Rational::to_exact), s.unbounded())
+    }
+
+    /// Two exact methods with nothing in common but the step function: on scenes both
+    /// decide, the search's s* is the schedule analyser's (to its LP's precision) and so is
+    /// the verdict, and every search certificate checks.
+    #[test]
+    fn the_search_equals_the_schedule_analyser_on_small_scenes() {
+        let scenes = small_scenes(60, 0x5ea7c4);
+        for (n, scene) in scenes.iter().enumerate() {
+            let a = analyse_scene(scene).expect("analysed");
+            let cert = certify_by_search(scene).expect("searched");
+            check_search(&cert).unwrap_or_else(|e| panic!("scene {n}: {e}"));
+            let (s, unbounded) = star(scene);
+            if a.never_stops {
+                // The analyser reports −∞ once an obstacle passes unbraked; the search
+                // measures that pass exactly: a collision either way.
+                assert!(
+                    unbounded
+                        || s.as_ref()
+                            .is_some_and(|s| to_f64(s) <= scene.robot.clearance),
+                    "scene {n}: analyser never stops, search {s:?}"
+                );
+                assert_eq!(cert.verdict, Verdict::Refuted, "scene {n}");
+                continue;
+            }
+            assert!(
+                !unbounded,
+                "scene {n}: search unbounded, analyser {:?}",
+                a.min_separation
+            );
+            match (&s, a.min_separation) {
+                (Some(s), Some(m)) => assert!(
+                    (to_f64(s) - m).abs() <= 1e-6,
+                    "scene {n}: search {} analyser {m}",
+                    to_f64(s)
+                ),
+                (None, None) => {}
+                other => panic!("scene {n}: {other:?}"),
+            }
+            if a.verdict != Verdict::Inconclusive && cert.verdict != Verdict::Inconclusive {
+                assert_eq!(a.verdict, cert.verdict, "scene {n}");
+            }
+        }
+    }
+
+    /// On scenes with lane changes (and everything else the simulator runs) the explorer's
+    /// exact least separation over its finite speeds is never below the search's s*, a
+    /// collision it finds is never certified, and every search certificate checks (its
+    /// witness replays to s*).
+    #[test]
+    fn the_search_is_never_above_the_explorer_on_lane_change_scenes() {
+        let scenes = lane_scenes(60, 0x1a4e5);
+        let mut changes = 0;
+        for (n, scene) in scenes.iter().enumerate() {
+            let cert = certify_by_search(scene).expect("searched");
+            check_search(&cert).unwrap_or_else(|e| panic!("scene {n}: {e}"));
+            changes += cert.witness.as_ref().map_or(0, |w| w.lane_changes.len());
+            let (s, unbounded) = star(scene);
+            let e = explore_with(scene, SceneSpeeds::extremes(&exact_params(scene)), 200_000);
+            if !e.complete {
+                continue;
+            }
+            let collides = e.verdict == ExploreVerdict::Collision;
+            if collides {
+                assert_ne!(cert.verdict, Verdict::Certified, "scene {n}");
+            }
+            if unbounded {
+                continue;
+            }
+            match (e.min_separation(), &s) {
+                (Some(m), Some(s)) => assert!(m >= *s, "scene {n}: explorer {m} < search {s}"),
+                (Some(m), None) => {
+                    panic!("scene {n}: the explorer measures {m}, the search nothing")
+                }
+                (None, _) => assert!(!e.never_stops(), "scene {n}"),
+            }
+        }
+        assert!(
+            changes > 5,
+            "the scenes exercise lane changes ({changes} in witnesses)"
+        );
+    }
+
+    /// Random behaviours replayed exactly never separate less than s*, and never collide
+    /// where the search certifies.
+    #[test]
+    fn random_behaviours_never_beat_the_search() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for (n, scene) in lane_scenes(25, 0xbe4a).iter().enumerate() {
+            let cert = certify_by_search(scene).expect("searched");
+            let (s, unbounded) = star(scene);
+            let p = exact_params(scene);
+            let horizon = simulate::horizon(&scene.params::<f64>());
+            for _ in 0..20 {
+                let speeds: Vec<Vec<Exact>> = p
+                    .obstacles
+                    .iter()
+                    .map(|o| {
+                        (0..horizon)
+                            .map(|_| {
+                                o.max_speed.clone() * Exact::from(rng.random_range(0..=4u8))
+                                    / Exact::from(4u8)
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let starts: Vec<Exact> = p.obstacles.iter().map(|o| o.start_min.clone()).collect();
+                let r = simulate::replay_exact_speeds(&p, &speeds, &starts, horizon, false);
+                if cert.verdict == Verdict::Certified {
+                    assert!(!r.collided(), "scene {n}: a certified scene collides");
+                }
+                if unbounded {
+                    continue;
+                }
+                let least = r.separations().into_iter().flatten().min();
+                if let (Some(l), Some(s)) = (least, &s) {
+                    assert!(l >= *s, "scene {n}: a behaviour separates {l} < s* {s}");
+                }
+            }
+        }
+    }
+
+    /// Editing the scene inside a certificate (an obstacle's position or lane, the lane
+    /// change's length or rear gap) and recomputing the digest is caught by the search.
+    #[test]
+    fn edited_scenes_are_rejected_even_with_a_fresh_digest() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/seed-lanes.toml");
+        let scene = Scene::load_with_overrides(&path, &[]).expect("loads");
+        let cert = certify_by_search(&scene).expect("searched");
+        check_search(&cert).expect("the original checks");
+        let edits: Vec<(&str, Box<dyn Fn(&mut Scene)>)> = vec![
+            (
+                "position",
+                Box::new(|s: &mut Scene| s.obstacles[1].position = Position::At(7.5)),
+            ),
+            ("lane", Box::new(|s: &mut Scene| s.obstacles[1].lane = -1)),
+            (
+                "periods",
+                Box::new(|s: &mut Scene| s.lane_change.as_mut().unwrap().periods = 5),
+            ),
+            (
+                "rear gap",
+                Box::new(|s: &mut Scene| s.lane_change.as_mut().unwrap().rear_gap = 3.0),
+            ),
+            (
+                "speed",
+                Box::new(|s: &mut Scene| s.obstacles[0].max_speed = 0.3),
+            ),
+        ];
+        for (what, edit) in edits {
+            let mut forged = cert.clone();
+            edit(&mut forged.scene);
+            forged.digest = forged.compute_digest();
+            let e = check_search(&forged).expect_err(what);
+            assert!(
+                e.0.contains("differ") || e.0.contains("verdict") || e.0.contains("witness"),
+                "{what}: {e}"
+            );
+        }
+    }
+}

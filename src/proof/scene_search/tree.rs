@@ -346,6 +346,10 @@ fn quiet_until(
     let k = node.k;
     let l = p.robot.L;
     let mut next = goal_step.unwrap_or(horizon + 1).min(horizon + 1);
+    if k < l {
+        // From step L on a lane without obstacles has nothing left to decide.
+        next = next.min(l);
+    }
     if next <= k {
         return None;
     }
