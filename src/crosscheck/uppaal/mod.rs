@@ -77,17 +77,26 @@ mod interpreter;
 mod machine;
 mod network;
 mod printer;
+mod scene_functions;
+mod scene_grid;
+mod scene_interpreter;
+mod scene_network;
 mod syntax;
 
 pub use grid::Grid;
 pub use interpreter::{GridExploration, explore_grid};
 pub use printer::{declarations_text, query_formula, query_text, xml_text};
+pub use scene_grid::{ObstacleGrid, SceneGrid};
+pub use scene_interpreter::{SceneGridExploration, explore_scene_grid};
 pub use syntax::{
-    Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Stmt, Template, Ty,
+    Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Param, Stmt, Template, Ty,
 };
 
 use crate::core::model::Problem;
+use crate::core::num::Exact;
+use crate::core::scene::Scene;
 use crate::crosscheck::explore::SpeedSet;
+use crate::crosscheck::explore::scene::SceneSpeeds;
 
 /// Most drive-profile speeds (control periods to reach v_max, plus one) the export enumerates.
 pub const MAX_PROFILE: usize = 100_000;
@@ -131,6 +140,35 @@ pub fn export(problem: &Problem, speeds: &SpeedSet) -> Result<UppaalModel, Uppaa
     let xml = xml_text(&network);
     let query = query_text(&network);
     Ok(UppaalModel {
+        grid,
+        network,
+        xml,
+        query,
+    })
+}
+
+/// An exported scene.
+#[derive(Clone, Debug)]
+pub struct SceneUppaalModel {
+    /// The grid.
+    pub grid: SceneGrid,
+    /// The network as data.
+    pub network: Network,
+    /// The UPPAAL XML file.
+    pub xml: String,
+    /// The query file.
+    pub query: String,
+}
+
+/// Exports a (validated) scene with each obstacle's speeds from `speeds` (as the scene
+/// explorer reads `--speeds`).
+pub fn export_scene(scene: &Scene, speeds: &SceneSpeeds) -> Result<SceneUppaalModel, UppaalError> {
+    let params = scene.params::<Exact>();
+    let grid = SceneGrid::new(&params, speeds)?;
+    let network = scene_network::scene_network(&scene.name, &params, &grid, speeds);
+    let xml = xml_text(&network);
+    let query = query_text(&network);
+    Ok(SceneUppaalModel {
         grid,
         network,
         xml,
