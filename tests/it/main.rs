@@ -23,5 +23,6 @@ mod scene_analysis;
 mod scene_cli;
 mod scene_explore;
 mod scene_input;
+mod scene_uppaal;
 mod sweep;
 mod uppaal;

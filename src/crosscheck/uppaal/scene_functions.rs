@@ -85,6 +85,7 @@ pub(super) fn functions(g: &SceneGrid) -> Vec<Decl> {
     out.extend(lane_functions());
     out.extend(end_functions());
     out.extend(period_functions(g.goal.is_some()));
+    out.push(forget_function());
     out.extend(motion_functions());
     out
 }
@@ -498,11 +499,26 @@ fn period_functions(has_goal: bool) -> Vec<Decl> {
             i(),
             sub(sub(elem("gap", i()), n("dx")), elem("w", i())),
         ),
-        Stmt::SetElem("gapAt", hist(i(), int(0)), elem("gap", i())),
+        Stmt::If(
+            bin(Op::Gt, elem("gap", i()), n("RHO")),
+            vec![Stmt::SetElem(
+                "gapAt",
+                hist(i(), int(0)),
+                add(n("RHO"), int(1)),
+            )],
+            vec![Stmt::SetElem("gapAt", hist(i(), int(0)), elem("gap", i()))],
+        ),
+        // Read only together with this gap, and only when it is in (0, RHO].
         Stmt::SetElem(
             "fastAt",
             hist(i(), int(0)),
-            bin(Op::Gt, elem("w", i()), n("VA")),
+            and(
+                bin(Op::Gt, elem("w", i()), n("VA")),
+                and(
+                    bin(Op::Gt, elem("gap", i()), int(0)),
+                    bin(Op::Le, elem("gap", i()), n("RHO")),
+                ),
+            ),
         ),
         Stmt::SetElem("w", i(), int(0)),
     ]);
@@ -525,7 +541,11 @@ fn period_functions(has_goal: bool) -> Vec<Decl> {
     ]);
     vec![
         func(
-            "Obstacle(id).Init: obstacle i starts at START[2*i + s].",
+            "Obstacle(id).Init: obstacle i starts at START[2*i + s]. Its history remembers\n\
+             a gap beyond RHO as RHO + 1: no guard tells such gaps apart (relevance and the\n\
+             free-lane test ask for gaps <= RHO, settled for gaps <= 0), and UPPAAL then\n\
+             need not either. Likewise a speed is remembered as faster than V_a only when the\n\
+             gap observed with it is in (0, RHO]: only then does wrongAssumption read it.",
             Ty::Void,
             "initialise",
             &["i", "s"],
@@ -536,7 +556,15 @@ fn period_functions(has_goal: bool) -> Vec<Decl> {
                     var: "j",
                     from: int(0),
                     up_to: Some(n("L")),
-                    body: vec![Stmt::SetElem("gapAt", hist(i(), j()), elem("gap", i()))],
+                    body: vec![Stmt::If(
+                        bin(Op::Gt, elem("gap", i()), n("RHO")),
+                        vec![Stmt::SetElem(
+                            "gapAt",
+                            hist(i(), j()),
+                            add(n("RHO"), int(1)),
+                        )],
+                        vec![Stmt::SetElem("gapAt", hist(i(), j()), elem("gap", i()))],
+                    )],
                 },
             ],
         ),
@@ -552,6 +580,30 @@ fn period_functions(has_goal: bool) -> Vec<Decl> {
             body,
         ),
     ]
+}
+
+/// `forget()`: the observation history cleared to one value. Called at the end of every
+/// braking period: Brake latches and no guard reads the history again, so braking states that
+/// differ only in it have the same futures (UPPAAL then stores one of them).
+fn forget_function() -> Decl {
+    let at = || hist(n("i"), n("j"));
+    func(
+        "Braking latches: no guard reads the observation history again, so it is cleared\n\
+         (states that differ only in it have the same futures).",
+        Ty::Void,
+        "forget",
+        &[],
+        &["i", "j"],
+        vec![each_obstacle(vec![Stmt::For {
+            var: "j",
+            from: int(0),
+            up_to: Some(n("L")),
+            body: vec![
+                Stmt::SetElem("gapAt", at(), int(0)),
+                Stmt::SetElem("fastAt", at(), Expr::Bool(false)),
+            ],
+        }])],
+    )
 }
 
 fn motion_functions() -> Vec<Decl> {
@@ -605,12 +657,15 @@ fn motion_functions() -> Vec<Decl> {
             "brake",
             &[],
             &[],
-            vec![end(
-                sub(n("v"), div(n("BRK"), int(2))),
-                sub(n("v"), n("BRK")),
-                1,
-                0,
-            )],
+            vec![
+                end(
+                    sub(n("v"), div(n("BRK"), int(2))),
+                    sub(n("v"), n("BRK")),
+                    1,
+                    0,
+                ),
+                Stmt::Call("forget", vec![]),
+            ],
         ),
         func(
             "Come to rest after v/BRK of the period, having moved v^2/(2*BRK) (a robot that\n\
@@ -619,16 +674,19 @@ fn motion_functions() -> Vec<Decl> {
             "stop",
             &[],
             &[],
-            vec![Stmt::If(
-                bin(Op::Gt, n("v"), int(0)),
-                vec![end(
-                    div(mul(n("v"), n("v")), mul(int(2), n("BRK"))),
-                    int(0),
-                    1,
-                    1,
-                )],
-                vec![end(int(0), int(0), 0, 0)],
-            )],
+            vec![
+                Stmt::If(
+                    bin(Op::Gt, n("v"), int(0)),
+                    vec![end(
+                        div(mul(n("v"), n("v")), mul(int(2), n("BRK"))),
+                        int(0),
+                        1,
+                        1,
+                    )],
+                    vec![end(int(0), int(0), 0, 0)],
+                ),
+                Stmt::Call("forget", vec![]),
+            ],
         ),
     ]
 }

@@ -326,13 +326,13 @@ fn variables(g: &SceneGrid) -> Vec<Decl> {
             "gapAt",
             gap,
             Some(("N * (L + 1)", hist)),
-            "gapAt[id * (L + 1) + j]: its gap at the start of the period j periods ago",
+            "gapAt[id * (L + 1) + j]: its gap at the start of the period j periods ago (RHO + 1: beyond RHO)",
         ),
         var(
             "fastAt",
             None,
             Some(("N * (L + 1)", hist)),
-            "fastAt[id * (L + 1) + j]: faster than V_a in the period that ended j periods ago",
+            "fastAt[id * (L + 1) + j]: faster than V_a in the period that ended j periods ago (kept only with a gap in (0, RHO])",
         ),
         var(
             "side",
