@@ -459,7 +459,7 @@ fn robot_template() -> Template {
             swerve(DRIVE),
             to_brake(DRIVE),
             Edge {
-                guard: Some(decide(Expr::Bool(true))),
+                guard: Some(and(turn_is(int(0)), not(call("collided")))),
                 update: vec![done],
                 ..edge(BRAKE, BRAKE)
             },
