@@ -76,16 +76,23 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
     let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
         Input::Problem(problem) => problem,
         Input::Scene(scene) => {
-            if args.grid {
-                anyhow::bail!(
-                    "--grid explores the UPPAAL network of a single-obstacle problem; {} is a \
-                     scene",
-                    args.problem.display()
-                );
-            }
             let options = Options {
                 max_states: args.max_states.unwrap_or(DEFAULT_SCENE_MAX_STATES),
             };
+            if args.grid {
+                if args.trace.is_some() {
+                    anyhow::bail!(
+                        "--trace is not available with --grid (the grid explorer reports states, not traces)"
+                    );
+                }
+                return explore_scene::run_grid(
+                    &scene,
+                    args.speeds.as_deref(),
+                    &options,
+                    args.json,
+                    out,
+                );
+            }
             return explore_scene::run(
                 &scene,
                 args.speeds.as_deref(),

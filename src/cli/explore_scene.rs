@@ -15,6 +15,7 @@ use safereach::crosscheck::explore::scene::{
     SceneExploration, ScenePath, SceneSpeeds, explore_scene,
 };
 use safereach::crosscheck::explore::{ExploreVerdict, Options, show_exact};
+use safereach::crosscheck::uppaal;
 
 use super::exit::Exit;
 use super::output::{Output, write_file};
@@ -47,6 +48,95 @@ pub fn run(
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
     } else {
         write!(out, "{}", summary(scene, &result, trace))?;
+    }
+    Ok(result.verdict.into())
+}
+
+/// `explore --grid` on a scene: its exported UPPAAL network explored on the integer grid
+/// (what UPPAAL would answer for `export-uppaal` with the same `--speeds`).
+pub fn run_grid(
+    scene: &Scene,
+    speeds: Option<&str>,
+    options: &Options,
+    json: bool,
+    out: &mut Output,
+) -> Result<Exit> {
+    let params = scene.params::<Exact>();
+    let speeds = match speeds {
+        Some(spec) => SceneSpeeds::parse(spec, &params)?,
+        None => SceneSpeeds::extremes(&params),
+    };
+    let model = uppaal::export_scene(scene, &speeds)?;
+    let result = uppaal::explore_scene_grid(&model, options)?;
+    let seps: Vec<Option<f64>> = result
+        .min_separation
+        .iter()
+        .map(|s| s.as_ref().map(|s| s.to_f64().value()))
+        .collect();
+    if json {
+        let obstacles: Vec<Value> = scene
+            .obstacles
+            .iter()
+            .zip(&seps)
+            .zip(&result.min_separation_grid)
+            .map(|((o, s), g)| {
+                json!({"name": o.name, "min_separation": s, "min_separation_grid": g})
+            })
+            .collect();
+        let v = json!({
+            "scene": scene.name,
+            "grid": true,
+            "verdict": result.verdict.as_str(),
+            "complete": result.complete,
+            "states": result.states,
+            "scale_per_metre": model.grid.scale.to_string(),
+            "collision_period": result.collision_period,
+            "obstacles": obstacles,
+        });
+        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
+        return Ok(result.verdict.into());
+    }
+    writeln!(
+        out,
+        "{}: {} (UPPAAL scene network on the integer grid, 1 unit = 1/{} m, 1 time unit = {} s)",
+        scene.name,
+        result.verdict.as_str(),
+        model.grid.scale,
+        scene.robot.control_period
+    )?;
+    writeln!(
+        out,
+        "  network states {}{}",
+        result.states,
+        if result.complete {
+            ""
+        } else {
+            " - state budget reached"
+        }
+    )?;
+    if let Some(k) = result.collision_period {
+        writeln!(out, "  first collision in period {k} (shortest path)")?;
+    }
+    if result.verdict == ExploreVerdict::Safe {
+        for ((o, s), g) in scene
+            .obstacles
+            .iter()
+            .zip(&seps)
+            .zip(&result.min_separation_grid)
+        {
+            match (s, g) {
+                (Some(s), Some(g)) => writeln!(
+                    out,
+                    "  {:?} (lane {}): least separation {g} units = {s:.9} m",
+                    o.name, o.lane
+                )?,
+                _ => writeln!(
+                    out,
+                    "  {:?} (lane {}): never met (the robot never moves in its lane)",
+                    o.name, o.lane
+                )?,
+            }
+        }
     }
     Ok(result.verdict.into())
 }

@@ -1,5 +1,8 @@
 //! `safereach export-uppaal`: the finite model `explore` checks, written as UPPAAL timed
-//! automata (XML) plus the safety query (`.q`), so a third tool can confirm the answer.
+//! automata (XML) plus the safety query (`.q`), so a third tool can confirm the answer. A
+//! scene file is exported as the scene network (one `Obstacle` process per obstacle, lanes,
+//! lane changes, destination), with each obstacle's speed set read as `explore` reads it for
+//! a scene.
 //!
 //! Exit codes: 0 written, 2 bad input or an I/O error.
 
@@ -8,24 +11,28 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
+use safereach::core::num::Exact;
+use safereach::core::scene::Scene;
+use safereach::crosscheck::explore::scene::SceneSpeeds;
 use safereach::crosscheck::uppaal;
 
 use super::exit::Exit;
 use super::explore::speed_set;
-use super::input;
+use super::input::{self, Input};
 use super::output::{Output, write_file};
 
 /// Arguments of `safereach export-uppaal`.
 #[derive(clap::Args)]
 pub struct ExportUppaalArgs {
-    /// Problem file (TOML).
+    /// Problem or scene file (TOML).
     problem: PathBuf,
     /// Override a key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Obstacle speeds, as for `explore` (the obstacle automaton selects among them).
-    #[arg(long, value_name = "N|LIST", default_value = "5")]
-    speeds: String,
+    /// Obstacle speeds, as for `explore` (the obstacle automaton selects among them; default
+    /// 5 for a problem, {0, W_i} for every obstacle of a scene).
+    #[arg(long, value_name = "N|LIST")]
+    speeds: Option<String>,
     /// Model file to write (UPPAAL XML); the query goes beside it with extension `.q`.
     /// Default: the problem file's name with extension `.xml`, in the current directory.
     #[arg(long, value_name = "FILE")]
@@ -34,8 +41,12 @@ pub struct ExportUppaalArgs {
 
 /// Runs `safereach export-uppaal`: exit 0 when the model and the query are written.
 pub fn run(args: ExportUppaalArgs, out: &mut Output) -> Result<Exit> {
-    let problem = input::problem(&args.problem, &args.sets)?;
-    let speeds = speed_set(&problem, &args.speeds)?;
+    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(problem) => problem,
+        Input::Scene(scene) => return run_scene(&args, &scene, out),
+    };
+    let spec = args.speeds.as_deref().unwrap_or("5");
+    let speeds = speed_set(&problem, spec)?;
     let model = uppaal::export(&problem, &speeds)?;
     let (xml, query) = model_files(&args.problem, args.out.clone())?;
     write_file(&xml, model.xml.as_bytes())?;
@@ -52,7 +63,41 @@ pub fn run(args: ExportUppaalArgs, out: &mut Output) -> Result<Exit> {
         problem.robot.control_period,
         speeds,
         args.problem.display(),
-        args.speeds
+        spec
+    )?;
+    Ok(Exit::Pass)
+}
+
+/// Exports a scene: every obstacle's speed set from `--speeds` as `explore` reads it.
+fn run_scene(args: &ExportUppaalArgs, scene: &Scene, out: &mut Output) -> Result<Exit> {
+    let params = scene.params::<Exact>();
+    let speeds = match args.speeds.as_deref() {
+        Some(spec) => SceneSpeeds::parse(spec, &params)?,
+        None => SceneSpeeds::extremes(&params),
+    };
+    let model = uppaal::export_scene(scene, &speeds)?;
+    let (xml, query) = model_files(&args.problem, args.out.clone())?;
+    write_file(&xml, model.xml.as_bytes())?;
+    write_file(&query, model.query.as_bytes())?;
+    let option = args
+        .speeds
+        .as_deref()
+        .map(|s| format!(" --speeds {s}"))
+        .unwrap_or_default();
+    writeln!(
+        out,
+        "{}: wrote {} and {}\n  integer grid: 1 distance unit = 1/{} m, 1 time unit = one control period ({} s), \
+         speeds in distance units per period; exact for this scene (no rounding)\n  \
+         {} obstacle processes, speeds (m/s) {}; reference answer: safereach explore {}{}",
+        scene.name,
+        xml.display(),
+        query.display(),
+        model.grid.scale,
+        scene.robot.control_period,
+        scene.obstacles.len(),
+        speeds,
+        args.problem.display(),
+        option
     )?;
     Ok(Exit::Pass)
 }

@@ -24,6 +24,7 @@ mod scene_cli;
 mod scene_explore;
 mod scene_input;
 mod scene_search;
+mod scene_uppaal;
 mod sweep;
 mod sweep_report;
 mod uppaal;

@@ -953,7 +953,8 @@ fn cli_scene_budget_and_bad_input() {
         String::from_utf8_lossy(&out.stderr).to_string()
     };
     assert!(err(&["--speeds", "0.5"]).contains("largest obstacle bound"));
-    assert!(err(&["--grid"]).contains("--grid"));
+    // --grid runs the scene's UPPAAL network (tests/it/scene_uppaal.rs), which has no trace.
+    assert!(err(&["--grid", "--trace", "t.csv"]).contains("--trace"));
     assert!(err(&["--set", "obstacle.0.lane=7"]).contains("obstacle[0]"));
     // A problem file: the single-obstacle explorer, as before (default --speeds 5).
     let out = safereach(dir.path())
@@ -1122,7 +1123,8 @@ mod run_search {
         let scene = Scene::load_with_overrides(&path, &[]).expect("loads");
         let cert = certify_by_search(&scene).expect("searched");
         check_search(&cert).expect("the original checks");
-        let edits: Vec<(&str, Box<dyn Fn(&mut Scene)>)> = vec![
+        type Edit = Box<dyn Fn(&mut Scene)>;
+        let edits: Vec<(&str, Edit)> = vec![
             (
                 "position",
                 Box::new(|s: &mut Scene| s.obstacles[1].position = Position::At(7.5)),

@@ -47,12 +47,12 @@ pub struct Grid {
     pub wrong_assumption_brake: bool,
 }
 
-fn lcm(a: &UBig, b: &UBig) -> UBig {
+pub(super) fn lcm(a: &UBig, b: &UBig) -> UBig {
     let g = a.gcd(b);
     a / &g * b
 }
 
-fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
+pub(super) fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
     let n: IBig = x.numerator().clone();
     let v = i64::try_from(&n).ok().filter(|v| v.abs() <= INT_MAX);
     v.ok_or_else(|| {
@@ -64,7 +64,7 @@ fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
 
 /// The drive profile's speeds: every speed the robot can brake from (0, then one per
 /// control period until v_max).
-fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
+pub(super) fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
     let mut drive = vec![Exact::ZERO];
     let mut state = RobotState {
         position: Exact::ZERO,

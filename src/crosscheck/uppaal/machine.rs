@@ -92,7 +92,7 @@ impl<'a> Machine<'a> {
                 Decl::Func(f) => {
                     m.funcs.insert(f.name, f);
                 }
-                Decl::Comment(_) | Decl::Chans(_) => {}
+                Decl::Comment(_) | Decl::Chans(_) | Decl::Typedef { .. } => {}
             }
         }
         m

@@ -50,6 +50,62 @@
 //!   The network stops (the obstacle blocks) once the query is violated, which keeps every
 //!   variable in its declared range.
 //!
+//! # Scenes: the seed's whole network
+//!
+//! [`export_scene`] writes a scene (docs/semantics.md §11) with each obstacle's finite speed
+//! set ([`SceneSpeeds`], read from `--speeds` as the scene explorer
+//! [`crate::crosscheck::explore::scene`] reads it) as the seed's network of one robot and an
+//! array of obstacles:
+//!
+//! - `Obstacle(const id_t id)`: one template instantiated per obstacle (`typedef int[0, N-1]
+//!   id_t`). Init selects its start (its position, or either end of a position range, as the
+//!   explorer samples a range); then each period, at its turn, it selects its speed from its
+//!   own set `WSET[id * NWMAX + s]` (a static obstacle's set is {0}).
+//! - `Robot`: the seed's modes. Each period it decides first (turn 0): `brakeNow()` → Brake,
+//!   `swerve()` → `beginChange()` (the lane change of §11.4: lane changes on, none under way,
+//!   danger, no wrong assumption, no destination, every dangerous obstacle beyond
+//!   d_lc = (v + V_i)·P·dt + buffer, and `laneFree(lane + 1)` else `laneFree(lane - 1)`, the
+//!   seed's `otherLaneSafe` with the rear gap), else it keeps its mode; then the obstacles pick
+//!   their speeds in id order (turns 1..N); at the period's end (turn N + 1, clock `x == 1`)
+//!   it moves, which ends the period for every obstacle (`endPeriod`). A period is a clock
+//!   reset, for the interpreter as for UPPAAL. Brake latches; a lane change completes after P
+//!   periods (`changing` counts down), braking or not.
+//! - Guards, per obstacle i, all multiplied out (no division): `relevant(i)` (its lane is the
+//!   robot's (target) lane, observed gap in (0, RHO]); `dangerous(i)` with d_coll for a moving
+//!   obstacle and d_static (V_a replaced by `VI[i]` = 0) for a static one; `wrongAssumption()`
+//!   (a relevant moving obstacle seen faster than V_a); `nearDestination()`
+//!   (`2·BRK·(GOAL − xr) ≤ v·v`). The sensing range needs no test: it is at least ρ, and
+//!   every guard reads only gaps ≤ ρ (§11.3).
+//! - Safety (§11.6): per obstacle, `side[i]` is the side of the robot's occupancy interval of
+//!   its lane (set from the gap as the robot enters the lane, cleared when it leaves), and
+//!   every period stores its share: `sep[i]` is the least separation over the period's moving
+//!   instants in that lane (the gap at their end when the obstacle was ahead, minus the gap at
+//!   the period's start when beside or behind), `attained[i]` whether that least is attained
+//!   (not at a rest instant, not at a start at rest). The query excludes, for each obstacle
+//!   written out, `share[i] && (sep[i] < CLEARANCE || attained[i] && sep[i] <= CLEARANCE)`.
+//!   These are exactly the shares of `SceneWorld::step`.
+//! - The network stops (the robot's decision is blocked) at a violation, at rest (Stop), and
+//!   when nothing can happen any more (`settled()`, as `SceneWorld::settled`): every run then
+//!   ends within the scene explorer's horizon, which bounds the gaps' declared range.
+//!
+//! **Positions.** The network keeps per-obstacle gaps, as the single-obstacle one does, and the
+//! robot's absolute position `xr` only when the scene has a goal. Every guard, the free-lane
+//! test and safety read gaps; only the destination guard reads x_r. Absolute obstacle positions
+//! would add a subtraction to every test and nothing else, and an `xr` without a goal would
+//! only split states that have the same future (the scene explorer drops x_r then, too).
+//!
+//! **Exact reductions inside the network**, so that UPPAAL's state space shrinks as well: the
+//! observation history remembers a gap beyond ρ as ρ + 1 and a speed as faster than V_a only
+//! with a gap in (0, ρ] (no guard reads more), and it is cleared once the robot brakes (no
+//! guard is evaluated again). The intermediate states of a period (after the robot's decision
+//! and each obstacle's choice) remain: on the tests' scenes the network has 4 to 20 times the
+//! scene explorer's states.
+//!
+//! The grid ([`SceneGrid`]) is the single-obstacle grid's construction extended to every
+//! obstacle's starts and speeds, the goal and the rear gap; d_lc and the destination guard are
+//! products of grid numbers. Numbers or products beyond 32 bits are refused
+//! ([`UppaalError::Grid`]).
+//!
 //! # Checking the export without UPPAAL
 //!
 //! The model is built as data — declarations, functions as small syntax trees, templates and
@@ -70,24 +126,39 @@
 //! - `printer`: the data printed as UPPAAL's XML and `.q` query;
 //! - `machine`: evaluation of the declarations, expressions and statements, with UPPAAL's
 //!   range and overflow checks;
-//! - `interpreter`: the network's transitions and the breadth-first search over them.
+//! - `interpreter`: the network's transitions (templates instantiated per parameter value)
+//!   and the breadth-first search over them;
+//! - `scene_grid`, `scene_network`, `scene_functions`: a scene's grid, its network (constants,
+//!   variables, templates, the query) and its functions (guards, safety, period's end,
+//!   motion);
+//! - `scene_interpreter`: the scene network run by the interpreter ([`explore_scene_grid`]),
+//!   held equal to the scene explorer by tests/it/scene_uppaal.rs.
 
 mod grid;
 mod interpreter;
 mod machine;
 mod network;
 mod printer;
+mod scene_functions;
+mod scene_grid;
+mod scene_interpreter;
+mod scene_network;
 mod syntax;
 
 pub use grid::Grid;
 pub use interpreter::{GridExploration, explore_grid};
 pub use printer::{declarations_text, query_formula, query_text, xml_text};
+pub use scene_grid::{ObstacleGrid, SceneGrid};
+pub use scene_interpreter::{SceneGridExploration, explore_scene_grid};
 pub use syntax::{
-    Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Stmt, Template, Ty,
+    Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Param, Stmt, Template, Ty,
 };
 
 use crate::core::model::Problem;
+use crate::core::num::Exact;
+use crate::core::scene::Scene;
 use crate::crosscheck::explore::SpeedSet;
+use crate::crosscheck::explore::scene::SceneSpeeds;
 
 /// Most drive-profile speeds (control periods to reach v_max, plus one) the export enumerates.
 pub const MAX_PROFILE: usize = 100_000;
@@ -131,6 +202,35 @@ pub fn export(problem: &Problem, speeds: &SpeedSet) -> Result<UppaalModel, Uppaa
     let xml = xml_text(&network);
     let query = query_text(&network);
     Ok(UppaalModel {
+        grid,
+        network,
+        xml,
+        query,
+    })
+}
+
+/// An exported scene.
+#[derive(Clone, Debug)]
+pub struct SceneUppaalModel {
+    /// The grid.
+    pub grid: SceneGrid,
+    /// The network as data.
+    pub network: Network,
+    /// The UPPAAL XML file.
+    pub xml: String,
+    /// The query file.
+    pub query: String,
+}
+
+/// Exports a (validated) scene with each obstacle's speeds from `speeds` (as the scene
+/// explorer reads `--speeds`).
+pub fn export_scene(scene: &Scene, speeds: &SceneSpeeds) -> Result<SceneUppaalModel, UppaalError> {
+    let params = scene.params::<Exact>();
+    let grid = SceneGrid::new(&params, speeds)?;
+    let network = scene_network::scene_network(&scene.name, &params, &grid, speeds);
+    let xml = xml_text(&network);
+    let query = query_text(&network);
+    Ok(SceneUppaalModel {
         grid,
         network,
         xml,

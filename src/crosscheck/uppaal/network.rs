@@ -5,6 +5,7 @@
 //! describe the network; the order of the declarations here is the order they are printed.
 
 use super::Grid;
+use super::printer::SEED_QUERY;
 use super::syntax::{
     Decl, Dir, Edge, Expr, Function, Kind, Location, Network, Op, Stmt, Template, Ty, add, and,
     bin, call, div, elem, int, mul, n, not, or, sub,
@@ -26,7 +27,9 @@ pub(super) fn network(problem: &Problem, grid: &Grid, speeds: &SpeedSet) -> Netw
             robot_template(),
             obstacle_template(grid.speeds.len() as i64),
         ],
+        system_comment: "One robot, one obstacle on its lane.".into(),
         violation: violation(),
+        query_comment: query_comment(),
     }
 }
 
@@ -103,6 +106,7 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
         constant("NW", g.speeds.len() as i64, "number of obstacle speeds"),
         Decl::ConstArray {
             name: "WSET",
+            len: "NW",
             values: g.speeds.clone(),
             note: "obstacle speeds (units per period), ascending".into(),
         },
@@ -468,6 +472,17 @@ fn constant(name: &'static str, value: i64, note: &str) -> Decl {
     }
 }
 
+/// The query's comment: passive safety in this model's variables, and the seed's form.
+fn query_comment() -> String {
+    format!(
+        "Passive safety: the robot is never moving with gap <= clearance. A robot that comes\n\
+         to rest inside a period is judged by its gap at that instant (restGap < CLEARANCE).\n\
+         The seed paper's form, for N obstacles on lanes y at positions x:\n  {SEED_QUERY}\n\
+         Its moving part in this model's variables (one obstacle, on the robot's lane):\n  \
+         A[] (gap <= CLEARANCE imply v == 0)"
+    )
+}
+
 /// `(v > 0 && gap <= CLEARANCE) || (rested && restGap < CLEARANCE)`.
 fn violation() -> Expr {
     or(
@@ -528,6 +543,7 @@ fn robot_template() -> Template {
     };
     Template {
         name: "Robot",
+        param: None,
         declaration: "",
         locations: vec![
             loc("Idle", Kind::Committed, (-400, 0)),
@@ -572,6 +588,7 @@ fn obstacle_template(nw: i64) -> Template {
     const MOVE: usize = 2;
     Template {
         name: "Obstacle",
+        param: None,
         declaration: "clock x;",
         locations: vec![
             Location {

@@ -155,13 +155,21 @@ fn declaration_text(d: &Decl, out: &mut String) {
             let ty = if *boolean { "bool" } else { "int" };
             let _ = writeln!(out, "const {ty} {name} = {value};  // {note}");
         }
-        Decl::ConstArray { name, values, note } => {
+        Decl::ConstArray {
+            name,
+            len,
+            values,
+            note,
+        } => {
             let list: Vec<String> = values.iter().map(i64::to_string).collect();
             let _ = writeln!(
                 out,
-                "const int {name}[NW] = {{{}}};  // {note}",
+                "const int {name}[{len}] = {{{}}};  // {note}",
                 list.join(", ")
             );
+        }
+        Decl::Typedef { name, lo, hi, note } => {
+            let _ = writeln!(out, "typedef int[{lo},{hi}] {name};  // {note}");
         }
         Decl::Var {
             name,
@@ -272,18 +280,10 @@ pub fn query_formula(net: &Network) -> String {
     format!("A[] not ({})", show_expr(&net.violation))
 }
 
-const SEED_QUERY: &str = "A[] forall (i:int[0,N-1]) R.y == obstacles[i].y and obstacles[i].x > R.x \
-                          and (obstacles[i].x - R.x <= 1) imply R.v == 0";
-
-fn query_comment() -> String {
-    format!(
-        "Passive safety: the robot is never moving with gap <= clearance. A robot that comes\n\
-         to rest inside a period is judged by its gap at that instant (restGap < CLEARANCE).\n\
-         The seed paper's form, for N obstacles on lanes y at positions x:\n  {SEED_QUERY}\n\
-         Its moving part in this model's variables (one obstacle, on the robot's lane):\n  \
-         A[] (gap <= CLEARANCE imply v == 0)"
-    )
-}
+/// The seed paper's safety query, for N obstacles on lanes y at positions x (quoted in the
+/// query comments).
+pub(super) const SEED_QUERY: &str = "A[] forall (i:int[0,N-1]) R.y == obstacles[i].y and obstacles[i].x > R.x \
+                                     and (obstacles[i].x - R.x <= 1) imply R.v == 0";
 
 /// The model as UPPAAL XML.
 pub fn xml_text(net: &Network) -> String {
@@ -306,7 +306,8 @@ pub fn xml_text(net: &Network) -> String {
     let names: Vec<&str> = net.templates.iter().map(|t| t.name).collect();
     let _ = writeln!(
         out,
-        "  <system>// One robot, one obstacle on its lane.\nsystem {};</system>",
+        "  <system>// {}\nsystem {};</system>",
+        net.system_comment,
         names.join(", ")
     );
     out.push_str("  <queries>\n    <query>\n");
@@ -318,7 +319,7 @@ pub fn xml_text(net: &Network) -> String {
     let _ = writeln!(
         out,
         "      <comment>{}</comment>",
-        xml_escape(&query_comment())
+        xml_escape(&net.query_comment)
     );
     out.push_str("    </query>\n  </queries>\n</nta>\n");
     out
@@ -328,6 +329,9 @@ pub fn xml_text(net: &Network) -> String {
 fn template_xml(net: &Network, t: &Template, out: &mut String) {
     out.push_str("  <template>\n");
     let _ = writeln!(out, "    <name>{}</name>", t.name);
+    if let Some(p) = t.param {
+        let _ = writeln!(out, "    <parameter>const {} {}</parameter>", p.ty, p.name);
+    }
     if !t.declaration.is_empty() {
         let _ = writeln!(
             out,
@@ -432,7 +436,7 @@ fn location_id(net: &Network, t: &Template, i: usize) -> String {
 
 /// The query file (UPPAAL's `.q` format: comments and one formula).
 pub fn query_text(net: &Network) -> String {
-    format!("/*\n{}\n*/\n{}\n", query_comment(), query_formula(net))
+    format!("/*\n{}\n*/\n{}\n", net.query_comment, query_formula(net))
 }
 
 #[cfg(test)]

@@ -149,10 +149,12 @@ pub enum Decl {
         /// Trailing comment.
         note: String,
     },
-    /// `const int NAME[N] = {…};`
+    /// `const int NAME[LEN] = {…};`
     ConstArray {
         /// Name.
         name: &'static str,
+        /// The length as printed (a constant's name or an expression of constants).
+        len: &'static str,
         /// Values.
         values: Vec<i64>,
         /// Trailing comment.
@@ -173,6 +175,17 @@ pub enum Decl {
     },
     /// `chan a, b;`
     Chans(Vec<&'static str>),
+    /// `typedef int[lo,hi] name;` (the printed bounds; a template parameter's type).
+    Typedef {
+        /// Name.
+        name: &'static str,
+        /// Lower bound as printed.
+        lo: &'static str,
+        /// Upper bound as printed.
+        hi: &'static str,
+        /// Trailing comment.
+        note: String,
+    },
     /// A function.
     Func(Function),
 }
@@ -231,11 +244,25 @@ pub struct Edge {
     pub clock_reset: Option<&'static str>,
 }
 
-/// A template (one process: templates have no parameters and are instantiated once).
+/// A template's parameter `const TYPE NAME`: the template is instantiated once for every
+/// value 0..count (UPPAAL's `system` does this for a bounded integer parameter type).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Param {
+    /// The parameter's name (bound in the template's guards and updates).
+    pub name: &'static str,
+    /// Its type as printed (a `typedef` of `int[0, count - 1]`).
+    pub ty: &'static str,
+    /// Number of instances.
+    pub count: usize,
+}
+
+/// A template: one process, or one per value of its parameter.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Template {
     /// Name, also the process name.
     pub name: &'static str,
+    /// The parameter, if the template is instantiated once per value of it.
+    pub param: Option<Param>,
     /// Local declarations (clocks only).
     pub declaration: &'static str,
     /// Locations.
@@ -253,10 +280,14 @@ pub struct Network {
     pub header: String,
     /// Global declarations.
     pub declarations: Vec<Decl>,
-    /// Templates, each instantiated once.
+    /// Templates (instantiated once, or once per parameter value).
     pub templates: Vec<Template>,
+    /// The comment of the `system` line.
+    pub system_comment: String,
     /// The violation the safety query excludes (`A[] not violation`).
     pub violation: Expr,
+    /// The comment printed with the query (in the XML and the `.q` file).
+    pub query_comment: String,
 }
 
 // Shorthands for building expressions.
