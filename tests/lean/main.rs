@@ -434,3 +434,27 @@ fn layers_import_downward_only() {
         "the walk looked at the real tree"
     );
 }
+
+/// The run search needs no solver: the embedded build decides a lane-change scene itself,
+/// checks the certificate, and monitors against it.
+#[test]
+fn lane_change_scenes_are_decided_checked_and_monitored_without_the_solver() {
+    use safereach::core::scene::Scene;
+    use safereach::proof::search_certificate::certify_by_search;
+    use safereach::proof::search_check::check_search;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/seed-lanes.toml");
+    let scene = Scene::load(&path).expect("the shipped scene loads");
+    let cert = certify_by_search(&scene).expect("searched");
+    assert_eq!(cert.verdict, Verdict::Certified);
+    assert_eq!(cert.min_separation_exact.as_deref(), Some("12/25"));
+    let report = check_search(&cert).expect("checks");
+    assert_eq!(report.verdict, Verdict::Certified);
+    let mut forged = cert.clone();
+    forged.scene.obstacles[1].position = safereach::core::scene::Position::At(7.0);
+    forged.digest = forged.compute_digest();
+    assert!(
+        check_search(&forged).is_err(),
+        "a moved parked car changes the answer"
+    );
+    Monitor::for_search(&cert).expect("a monitor for a certified search certificate");
+}

@@ -194,7 +194,12 @@ pub fn walk(
                         .filter_map(|cell| reach(&node.chains[i], cell, n, &seen_at))
                         .collect()
                 }
-                _ => vec![(None, node.chains[i].clone())],
+                _ => vec![Reachable {
+                    seen: None,
+                    chain: node.chains[i].clone(),
+                    position: Interval::all(),
+                    speed: Interval::all(),
+                }],
             };
             if role == Role::Target {
                 targets.push(i);
@@ -204,12 +209,15 @@ pub fn walk(
         if options.iter().any(Vec::is_empty) {
             continue;
         }
+        if let Some(n) = n {
+            merge_equivalent(p, &robot, &lateral, &node, n, &mut options, &targets);
+        }
         let mut choice = vec![0usize; options.len()];
         loop {
             let mut seen: Vec<Option<Observation<Rational>>> = choice
                 .iter()
                 .enumerate()
-                .map(|(i, &c)| options[i][c].0.clone())
+                .map(|(i, &c)| options[i][c].seen.clone())
                 .collect();
             // Targets unseen: every neighbouring lane free.
             for &t in &targets {
@@ -222,7 +230,7 @@ pub fn walk(
                     if targets.contains(&i) {
                         node.chains[i].clone()
                     } else {
-                        options[i][c].1.clone()
+                        options[i][c].chain.clone()
                     }
                 })
                 .collect();
@@ -234,8 +242,8 @@ pub fn walk(
                     let mut seen = seen.clone();
                     let mut chains = base.clone();
                     for (j, &t) in targets.iter().enumerate() {
-                        seen[t] = options[t][tchoice[j]].0.clone();
-                        chains[t] = options[t][tchoice[j]].1.clone();
+                        seen[t] = options[t][tchoice[j]].seen.clone();
+                        chains[t] = options[t][tchoice[j]].chain.clone();
                     }
                     let command = scene_guard(p, &robot, &lateral, &seen);
                     follow(
@@ -259,8 +267,168 @@ pub fn walk(
     Ok(stats)
 }
 
-/// Per obstacle, the cells it can reach with its chain in each.
-type Options = Vec<(Option<Observation<Rational>>, Chain)>;
+/// One cell an obstacle can reach: its representative, the chain in it, and the cell as
+/// constraints on X(n) and w_{n−1}.
+#[derive(Clone, Debug)]
+struct Reachable {
+    seen: Option<Observation<Rational>>,
+    chain: Chain,
+    position: Interval,
+    speed: Interval,
+}
+
+/// Per obstacle, the cells it can reach.
+type Options = Vec<Reachable>;
+
+/// What a combination of non-target cells commands: the command with every neighbouring
+/// lane free, and, when that is a lane change, the command for each combination of the
+/// targets' cells.
+fn signature(
+    p: &SceneParams<Rational>,
+    robot: &RobotState<Rational>,
+    lateral: &Lateral,
+    options: &[Options],
+    targets: &[usize],
+    choice: &[usize],
+) -> Vec<Command> {
+    let mut seen: Vec<Option<Observation<Rational>>> = choice
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| options[i][c].seen.clone())
+        .collect();
+    for &t in targets {
+        seen[t] = None;
+    }
+    let first = scene_guard(p, robot, lateral, &seen);
+    let mut out = vec![first];
+    if matches!(first, Command::ChangeLane(_)) && !targets.is_empty() {
+        let mut tchoice = vec![0usize; targets.len()];
+        loop {
+            for (j, &t) in targets.iter().enumerate() {
+                seen[t] = options[t][tchoice[j]].seen.clone();
+            }
+            out.push(scene_guard(p, robot, lateral, &seen));
+            if !advance_targets(&mut tchoice, targets, options) {
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// Whether two cells' union is again a product of intervals: the same speeds and touching
+/// gaps, or the same gaps and touching speeds.
+fn touching(a: &Reachable, b: &Reachable) -> Option<(Interval, Interval)> {
+    let meet = |x: &Interval, y: &Interval| -> Option<Interval> {
+        let (Some(h), Some(l)) = (&x.hi, &y.lo) else {
+            return None;
+        };
+        (h.at == l.at && h.closed != l.closed).then(|| Interval {
+            lo: x.lo.clone(),
+            hi: y.hi.clone(),
+        })
+    };
+    let join = |x: &Interval, y: &Interval| meet(x, y).or_else(|| meet(y, x));
+    if a.speed == b.speed {
+        return join(&a.position, &b.position).map(|pos| (pos, a.speed.clone()));
+    }
+    if a.position == b.position {
+        return join(&a.speed, &b.speed).map(|sp| (a.position.clone(), sp));
+    }
+    None
+}
+
+/// Merges, per non-target obstacle, neighbouring cells that command the same whatever the
+/// other obstacles show: the merged cell is one interval constraint, and every behaviour in
+/// it leads to the same child, so the merge is exact and the tree stays small.
+fn merge_equivalent(
+    p: &SceneParams<Rational>,
+    robot: &RobotState<Rational>,
+    lateral: &Lateral,
+    node: &Node,
+    n: usize,
+    options: &mut [Options],
+    targets: &[usize],
+) {
+    for i in 0..options.len() {
+        if targets.contains(&i) {
+            continue;
+        }
+        'retry: loop {
+            let len = options[i].len();
+            for a in 0..len {
+                for b in a + 1..len {
+                    let Some((position, speed)) = touching(&options[i][a], &options[i][b]) else {
+                        continue;
+                    };
+                    if !same_everywhere(p, robot, lateral, options, targets, i, a, b) {
+                        continue;
+                    }
+                    let constrained = if n == 0 {
+                        Interval::all()
+                    } else {
+                        speed.clone()
+                    };
+                    let Some(chain) = node.chains[i].constrain(n, &position, &constrained) else {
+                        continue;
+                    };
+                    let seen = options[i][a].seen.clone();
+                    options[i][a] = Reachable {
+                        seen,
+                        chain,
+                        position,
+                        speed,
+                    };
+                    options[i].remove(b);
+                    continue 'retry;
+                }
+            }
+            break;
+        }
+    }
+}
+
+/// Whether obstacle i's cells a and b give the same signature for every combination of the
+/// other non-target obstacles' cells.
+#[allow(clippy::too_many_arguments)]
+fn same_everywhere(
+    p: &SceneParams<Rational>,
+    robot: &RobotState<Rational>,
+    lateral: &Lateral,
+    options: &[Options],
+    targets: &[usize],
+    i: usize,
+    a: usize,
+    b: usize,
+) -> bool {
+    let mut choice = vec![0usize; options.len()];
+    loop {
+        choice[i] = a;
+        let sa = signature(p, robot, lateral, options, targets, &choice);
+        choice[i] = b;
+        let sb = signature(p, robot, lateral, options, targets, &choice);
+        if sa != sb {
+            return false;
+        }
+        choice[i] = 0;
+        // Odometer over the others (i and the targets held at 0).
+        let mut moved = false;
+        for j in 0..choice.len() {
+            if j == i || targets.contains(&j) {
+                continue;
+            }
+            choice[j] += 1;
+            if choice[j] < options[j].len() {
+                moved = true;
+                break;
+            }
+            choice[j] = 0;
+        }
+        if !moved {
+            return true;
+        }
+    }
+}
 
 /// The next combination of non-target cells (odometer order); false after the last.
 fn advance(choice: &mut [usize], options: &[Options], targets: &[usize]) -> bool {
@@ -395,17 +563,17 @@ fn quiet_until(
 
 /// The cell as a constraint on the obstacle (its gap is seen from the robot at `seen_at`),
 /// with its representative; None when the obstacle cannot be in it.
-fn reach(
-    chain: &Chain,
-    cell: Cell,
-    n: usize,
-    seen_at: &Rational,
-) -> Option<(Option<Observation<Rational>>, Chain)> {
+fn reach(chain: &Chain, cell: Cell, n: usize, seen_at: &Rational) -> Option<Reachable> {
     let position = cell.gap.shifted(seen_at);
     // The speed seen with X(n) is w_{n−1}; at n = 0 there is none (it reads 0).
     let speed = if n == 0 { Interval::all() } else { cell.speed };
     let chain = chain.constrain(n, &position, &speed)?;
-    Some((cell.seen, chain))
+    Some(Reachable {
+        seen: cell.seen,
+        chain,
+        position,
+        speed,
+    })
 }
 
 /// How the controller reads obstacle i with the robot in `lateral`.
