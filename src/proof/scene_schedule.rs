@@ -94,7 +94,7 @@ impl SceneDecomposition {
     pub fn new(scene: &Scene) -> Result<Self, Unsupported> {
         if scene.lane_change.is_some() {
             return Err(Unsupported(
-                "lane changes are not analysed yet (simulate them with `safereach simulate`)"
+                "the schedule analyser does not take lane changes (the run search decides them)"
                     .into(),
             ));
         }
@@ -104,7 +104,8 @@ impl SceneDecomposition {
             .find(|o| matches!(o.position, Position::Range(..)))
         {
             return Err(Unsupported(format!(
-                "obstacle \"{}\": a position range is not analysed yet; give one position",
+                "obstacle \"{}\": the schedule analyser does not take position ranges (the run \
+                 search decides them)",
                 o.name
             )));
         }

@@ -77,3 +77,32 @@ fn a_lane_change_saves_the_robot_unless_the_other_lane_is_occupied() {
     let w = refused.witness.as_ref().expect("a witness");
     assert!(w.lane_changes.is_empty() && w.collides);
 }
+
+/// A position range holds every behaviour of each start in it: its s* is at most each
+/// start's, and a range of one point is that position exactly.
+#[test]
+fn a_position_range_is_no_safer_than_any_start_in_it() {
+    let range = certify(&scene(
+        "seed-lanes.toml",
+        &["obstacle.0.position=[9.5, 10.5]"],
+    ));
+    let at = |x: f64| {
+        let set = format!("obstacle.0.position={x}");
+        certify(&scene("seed-lanes.toml", &[set.as_str()]))
+    };
+    let worst = range.min_separation.expect("finite");
+    for x in [9.5, 9.75, 10.0, 10.25, 10.5] {
+        let s = at(x).min_separation.expect("finite");
+        assert!(worst <= s, "range {worst} above the start {x}'s {s}");
+    }
+    let point = certify(&scene(
+        "seed-lanes.toml",
+        &["obstacle.0.position=[10.0, 10.0]"],
+    ));
+    assert_eq!(point.min_separation_exact, at(10.0).min_separation_exact);
+    let start = &range.witness.as_ref().expect("a witness").starts[0];
+    assert!(
+        start.is_some(),
+        "the witness says where the ranged obstacle started"
+    );
+}
