@@ -24,7 +24,7 @@ pub enum SceneAnswer {
 impl SceneAnswer {
     /// Decides a (validated) scene with the engine that covers it.
     pub fn of(scene: &Scene) -> Result<SceneAnswer, SceneAnalysisError> {
-        if SceneDecomposition::new(scene).is_ok() {
+        if SceneDecomposition::decides(scene).is_ok() {
             return Ok(SceneAnswer::Schedule(Box::new(analyse_scene(scene)?)));
         }
         let cert =

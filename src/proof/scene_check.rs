@@ -14,6 +14,7 @@
 
 use crate::core::num::{Exact, Scalar, exact_decimal, exact_float, f64_at_most};
 use crate::core::scene::simulate;
+use crate::core::scene::simulate::SceneTraceRow;
 use crate::proof::check::{CheckReport, Invalid, check_proof};
 use crate::proof::program::ProofKind;
 use crate::proof::scene_certificate::{
@@ -252,21 +253,7 @@ fn check_witness(cert: &SceneCertificate, w: &SceneWitness) -> Result<bool, Inva
         return invalid("witness lists speeds past the end of its run");
     }
     let steps = replay.trace();
-    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
-    let same = steps.len() == w.steps.len()
-        && steps.iter().zip(&w.steps).all(|(x, y)| {
-            let (a, b) = (&x.row, &y.row);
-            x.obstacle == y.obstacle
-                && x.robot_lane == y.robot_lane
-                && x.obstacle_lane == y.obstacle_lane
-                && a.robot_mode == b.robot_mode
-                && close(a.t, b.t)
-                && close(a.robot_position, b.robot_position)
-                && close(a.robot_speed, b.robot_speed)
-                && close(a.obstacle_position, b.obstacle_position)
-                && close(a.obstacle_speed, b.obstacle_speed)
-                && close(a.gap, b.gap)
-        });
+    let same = same_scene_trace(&steps, &w.steps);
     if !same {
         return invalid("witness trace differs from its exact replay");
     }
@@ -290,4 +277,25 @@ fn check_witness(cert: &SceneCertificate, w: &SceneWitness) -> Result<bool, Inva
         return invalid("never_stops requires a witness that collides");
     }
     Ok(replay.collided())
+}
+
+/// Whether a witness's stated trace is its replay's: the same rows, lanes and modes, every
+/// number within [`TRACE_TOLERANCE`] (search and scene witnesses alike).
+pub(crate) fn same_scene_trace(replayed: &[SceneTraceRow], stated: &[SceneTraceRow]) -> bool {
+    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
+    replayed.len() == stated.len()
+        && replayed.iter().zip(stated).all(|(x, y)| {
+            let (a, b) = (&x.row, &y.row);
+            x.obstacle == y.obstacle
+                && x.robot_lane == y.robot_lane
+                && x.leaving_lane == y.leaving_lane
+                && x.obstacle_lane == y.obstacle_lane
+                && a.robot_mode == b.robot_mode
+                && close(a.t, b.t)
+                && close(a.robot_position, b.robot_position)
+                && close(a.robot_speed, b.robot_speed)
+                && close(a.obstacle_position, b.obstacle_position)
+                && close(a.obstacle_speed, b.obstacle_speed)
+                && close(a.gap, b.gap)
+        })
 }

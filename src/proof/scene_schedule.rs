@@ -90,8 +90,9 @@ pub struct SceneDecomposition {
 }
 
 impl SceneDecomposition {
-    /// Builds the pieces of a (validated) scene.
-    pub fn new(scene: &Scene) -> Result<Self, Unsupported> {
+    /// Whether the schedule analyser decides the scene (no lane changes, no position
+    /// ranges), without building anything.
+    pub fn decides(scene: &Scene) -> Result<(), Unsupported> {
         if scene.lane_change.is_some() {
             return Err(Unsupported(
                 "the schedule analyser does not take lane changes (the run search decides them)"
@@ -109,6 +110,12 @@ impl SceneDecomposition {
                 o.name
             )));
         }
+        Ok(())
+    }
+
+    /// Builds the pieces of a (validated) scene.
+    pub fn new(scene: &Scene) -> Result<Self, Unsupported> {
+        Self::decides(scene)?;
         let lane: Vec<usize> = scene.in_lane(ROBOT_LANE).collect();
         let params: Vec<Params<Exact>> = lane.iter().map(|&i| scene.obstacle_params(i)).collect();
         let quiet: Vec<Option<usize>> = params.iter().map(quiet_until).collect();

@@ -16,12 +16,13 @@ use crate::core::scene::simulate;
 use crate::core::scene::{Position, SceneParams};
 use crate::proof::check::{CheckReport, Invalid};
 use crate::proof::scene_certificate::scene_premises;
+use crate::proof::scene_check::same_scene_trace;
 use crate::proof::scene_search::search_scene;
 use crate::proof::search_certificate::{
     RunWitness, SEARCH_FORMAT, SearchCertificate, exact_from_text, exact_text,
     obstacle_separations, witness_starts,
 };
-use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict};
+use crate::proof::verdict::{REPLAY_TOLERANCE, Verdict};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
     Err(Invalid(msg.into()))
@@ -175,22 +176,7 @@ fn check_witness(
         return invalid("witness lists speeds past the end of its run");
     }
     let steps = replay.trace();
-    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
-    let same = steps.len() == w.steps.len()
-        && steps.iter().zip(&w.steps).all(|(x, y)| {
-            let (a, b) = (&x.row, &y.row);
-            x.obstacle == y.obstacle
-                && x.robot_lane == y.robot_lane
-                && x.leaving_lane == y.leaving_lane
-                && x.obstacle_lane == y.obstacle_lane
-                && a.robot_mode == b.robot_mode
-                && close(a.t, b.t)
-                && close(a.robot_position, b.robot_position)
-                && close(a.robot_speed, b.robot_speed)
-                && close(a.obstacle_position, b.obstacle_position)
-                && close(a.obstacle_speed, b.obstacle_speed)
-                && close(a.gap, b.gap)
-        });
+    let same = same_scene_trace(&steps, &w.steps);
     if !same {
         return invalid("witness trace differs from its exact replay");
     }
