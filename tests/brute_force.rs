@@ -780,9 +780,9 @@ fn check_bound(problem: &Problem, a: &Analysis, ans: &Answer) -> Vec<String> {
         },
         (Some(_), false, None) => wrong.push("no finite lower bound".into()),
         // No feasible program: the robot never moves; the analyser bounds s* by g0.
-        (None, false, lb) if lb != Some(problem.environment.initial_gap) => wrong.push(format!(
-            "no behaviour moves the robot, yet lower bound {lb:?}"
-        )),
+        (None, false, lb) if lb != Some(problem.environment.initial_gap.min()) => wrong.push(
+            format!("no behaviour moves the robot, yet lower bound {lb:?}"),
+        ),
         _ => {}
     }
     if !ans.solver_trouble.is_empty() {

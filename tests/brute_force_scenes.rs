@@ -94,9 +94,11 @@ use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use safereach::analysis::Verdict;
 use safereach::analysis::lp::{self, LpOutcome};
 use safereach::analysis::scene::{SceneAnalysis, analyse_scene};
-use safereach::core::model::{Controller, DangerRule, Environment, Params, Problem, Robot};
+use safereach::core::model::{
+    Controller, DangerRule, Environment, Params, Position, Problem, Robot,
+};
 use safereach::core::num::{Exact, Scalar, exact_float, f64_at_most};
-use safereach::core::scene::{Obstacle, Position, Scene};
+use safereach::core::scene::{Obstacle, Scene};
 use safereach::core::semantics::{Mode, RobotState, robot_motion};
 use safereach::proof::program::{Program, Row, Var};
 
@@ -196,6 +198,8 @@ impl Case {
             control_period: hundredths(dt),
             latency,
             clearance: hundredths(clearance),
+            braking_min: None,
+            initial_speed: None,
         }
     }
 
@@ -229,7 +233,7 @@ impl Case {
             controller: self.controller(),
             environment: Environment {
                 obstacle_speed: 0.0,
-                initial_gap: clearance + 1.0,
+                initial_gap: Position::At(clearance + 1.0),
             },
         }
         .validate("brute-force scene")

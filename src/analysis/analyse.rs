@@ -87,6 +87,13 @@ pub enum AnalysisError {
     /// rather than resolved either way.
     #[error("internal inconsistency: {0}")]
     Inconsistent(String),
+    /// The initial gap is a range: this analyser takes one start. The scene engines answer
+    /// it exactly (`SceneAnswer::of(&Scene::from_problem(problem))`; the CLI does so).
+    #[error(
+        "environment.initial_gap is a range: analyse it as a scene \
+         (SceneAnswer::of(&Scene::from_problem(&problem)))"
+    )]
+    GapRange,
 }
 
 /// When the analyser extracts and replays a worst-case witness.
@@ -115,6 +122,9 @@ pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
 
 /// Analyses a (validated) problem.
 pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, AnalysisError> {
+    if problem.environment.initial_gap.is_range() {
+        return Err(AnalysisError::GapRange);
+    }
     let dec = Decomposition::new(problem);
     let mut solved = 0;
     let programs: Vec<Program> = dec.pieces.iter().map(|piece| dec.program(piece)).collect();
@@ -475,17 +485,20 @@ fn replay_witness(
 
 /// The nearest-float version of exact parameters.
 pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
-    let (v_max, a, b, dt) = (
+    let (v_max, a, b, b_min, dt) = (
         p.v_max.to_f64().value(),
         p.a.to_f64().value(),
         p.b.to_f64().value(),
+        p.b_min.to_f64().value(),
         p.dt.to_f64().value(),
     );
     Params {
-        k: crate::core::model::StepConstants::of(&v_max, &a, &b, &dt),
+        k: crate::core::model::StepConstants::of(&v_max, &a, &b_min, &dt),
         v_max,
         a,
         b,
+        b_min,
+        v0: p.v0.to_f64().value(),
         dt,
         L: p.L,
         clearance: p.clearance.to_f64().value(),
@@ -496,6 +509,7 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
         wrong_assumption_brake: p.wrong_assumption_brake,
         W: p.W.to_f64().value(),
         g0: p.g0.to_f64().value(),
+        g0_max: p.g0_max.to_f64().value(),
     }
 }
 

@@ -314,8 +314,15 @@ impl Grid {
             Scene::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
                 .map(CellInput::Scene)
         } else {
-            Problem::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
-                .map(CellInput::Problem)
+            // A range of initial gaps is answered by the scene engines (see
+            // `AnalysisError::GapRange`).
+            Problem::from_toml_str_with_overrides(&self.base_text, &origin, &sets).map(|p| {
+                if p.environment.initial_gap.is_range() {
+                    CellInput::Scene(Scene::from_problem(&p))
+                } else {
+                    CellInput::Problem(p)
+                }
+            })
         }
     }
 

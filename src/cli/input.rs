@@ -26,12 +26,18 @@ pub enum Input {
     Scene(Scene),
 }
 
-/// Reads `path` with `sets` as a problem if it is one, else as a scene (a scene file, or a
+/// Reads `path` with `sets` as a problem if it is one (a problem with a range of initial
+/// gaps is read as the scene it is: one obstacle in lane 0), else as a scene (a scene file, or a
 /// problem file whose overrides add scene keys). When neither reads, the error is the scene
 /// reader's for a file in scene form (`[scene]` or `[[obstacle]]`), else the problem
 /// reader's, so problem files keep today's messages.
 pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
     let problem_error = match Problem::load_with_overrides(path, sets) {
+        // A range of initial gaps is answered by the scene engines: the exact run search
+        // covers every start (see `AnalysisError::GapRange`).
+        Ok(p) if p.environment.initial_gap.is_range() => {
+            return Ok(Input::Scene(Scene::from_problem(&p)));
+        }
         Ok(p) => return Ok(Input::Problem(p)),
         Err(e) => e,
     };

@@ -251,6 +251,8 @@ pub fn symbolic(p: &Params<Exact>) -> Params<ParamAffine> {
         v_max: c(&p.v_max),
         a: c(&p.a),
         b: c(&p.b),
+        b_min: c(&p.b_min),
+        v0: c(&p.v0),
         dt: c(&p.dt),
         L: p.L,
         clearance: s(Parameter::Clearance),
@@ -261,6 +263,12 @@ pub fn symbolic(p: &Params<Exact>) -> Params<ParamAffine> {
         wrong_assumption_brake: p.wrong_assumption_brake,
         W: s(Parameter::ObstacleSpeed),
         g0: s(Parameter::InitialGap),
+        // The far end of a range is not a named parameter yet (issue 11 names it).
+        g0_max: if p.gap_is_range() {
+            c(&p.g0_max)
+        } else {
+            s(Parameter::InitialGap)
+        },
         k: p.k.map(&c),
     }
 }

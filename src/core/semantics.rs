@@ -29,7 +29,7 @@ pub enum Mode {
     Accelerate,
     /// Cruising at v_max.
     Drive,
-    /// Slowing at b until at rest; latched.
+    /// Slowing at b (the plant: b_min) until at rest; latched.
     Brake,
     /// At rest after braking; final.
     Stop,
@@ -73,6 +73,23 @@ pub struct RobotState<N> {
     pub speed: N,
     /// Automaton location.
     pub mode: Mode,
+}
+
+impl<N: Scalar> RobotState<N> {
+    /// The robot at t = 0: at position 0 with speed v0, in Drive if v0 = v_max, else in
+    /// Accelerate (a robot at rest leaves Idle at t = 0).
+    pub fn initial(p: &Params<N>) -> Self {
+        let mode = if p.v0 >= p.v_max {
+            Mode::Drive
+        } else {
+            Mode::Accelerate
+        };
+        RobotState {
+            position: N::zero(),
+            speed: p.v0.clone(),
+            mode,
+        }
+    }
 }
 
 /// The robot's motion over one control period in a given mode.
@@ -148,21 +165,23 @@ fn accelerate<N: Scalar>(p: &Params<N>, x: N, v: N) -> Motion<N> {
     }
 }
 
-/// One period in Brake: at rest already, stop inside the period, or lose b·dt.
+/// One period in Brake: at rest already, stop inside the period, or lose b_min·dt.
 #[inline]
 fn brake<N: Scalar>(p: &Params<N>, x: N, v: N) -> Motion<N> {
     let (dt, k) = (&p.dt, &p.k);
     if v <= N::zero() {
         return Motion::to(x, N::zero(), Mode::Stop, N::zero());
     }
-    if v <= k.b_dt {
-        // Stops inside the period, after v/b, having moved v²/(2b).
-        let stop = v.clone() / p.b.clone();
+    // The plant brakes at b_min, its guaranteed rate: the worst case of [b_min, b]
+    // (docs/semantics.md, "Weaker brakes").
+    if v <= k.b_min_dt {
+        // Stops inside the period, after v/b_min, having moved v²/(2b_min).
+        let stop = v.clone() / p.b_min.clone();
         let position = x + k.half.clone() * v * stop.clone();
         Motion::to(position, N::zero(), Mode::Stop, stop)
     } else {
-        let position = x + v.clone() * dt.clone() - k.half_b_dt2.clone();
-        Motion::to(position, v - k.b_dt.clone(), Mode::Brake, dt.clone())
+        let position = x + v.clone() * dt.clone() - k.half_b_min_dt2.clone();
+        Motion::to(position, v - k.b_min_dt.clone(), Mode::Brake, dt.clone())
     }
 }
 
@@ -262,16 +281,18 @@ pub struct World<N> {
 }
 
 impl<N: Scalar> World<N> {
-    /// The world at t = 0: robot at rest at position 0, about to accelerate.
+    /// The world at t = 0 with the obstacle at the problem's (nearest) initial gap.
     pub fn new(params: Params<N>) -> Self {
         let gap = params.g0.clone();
+        Self::with_gap(params, gap)
+    }
+
+    /// The world at t = 0 with the obstacle at initial gap `gap` (a point of the problem's
+    /// range): the robot at position 0 with speed v0 ([`RobotState::initial`]).
+    pub fn with_gap(params: Params<N>, gap: N) -> Self {
         World {
             k: 0,
-            robot: RobotState {
-                position: N::zero(),
-                speed: N::zero(),
-                mode: Mode::Accelerate,
-            },
+            robot: RobotState::initial(&params),
             gap,
             gaps: VecDeque::with_capacity(params.L + 2),
             speeds: VecDeque::with_capacity(params.L + 2),

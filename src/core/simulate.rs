@@ -218,11 +218,11 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
 }
 
 /// The number of periods after which a run certainly has ended: the robot reaches the
-/// obstacle's start within this many periods even if the obstacle stands still, then
-/// stops within v_max/(b·dt) more.
+/// obstacle's (farthest) start within this many periods even if the obstacle stands still,
+/// then stops within v_max/(b_min·dt) more (the plant's braking).
 pub fn horizon(params: &Params<f64>) -> usize {
     let p = params;
-    let reach = p.v_max / p.a + (p.g0 + p.clearance) / p.v_max;
-    let stop = p.v_max / p.b;
+    let reach = p.v_max / p.a + (p.g0_max + p.clearance) / p.v_max;
+    let stop = p.v_max / p.b_min;
     ((reach + stop) / p.dt).ceil() as usize + p.L + 4
 }

@@ -31,6 +31,13 @@ fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
 /// Re-verifies a certificate without the solver (see the module docs for what is checked).
 pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
     check_envelope(cert)?;
+    if cert.problem.environment.initial_gap.is_range() {
+        // This kind's witness has one start; ranges get scene search certificates.
+        return invalid(
+            "the problem's initial gap is a range, which this certificate kind does not cover; \
+             a range is certified by a scene search certificate",
+        );
+    }
     let dec = Decomposition::new(&cert.problem);
     let lower = check_proofs(cert, &dec)?;
     check_claims(cert, lower.as_ref())?;

@@ -95,7 +95,8 @@ impl PremiseKind {
         let r = &problem.robot;
         match self {
             PremiseKind::ObstacleSpeed => problem.environment.obstacle_speed,
-            PremiseKind::BrakingDeceleration => r.braking,
+            // What the plant guarantees: the analysis braked at b_min.
+            PremiseKind::BrakingDeceleration => r.plant_braking(),
             PremiseKind::ControlPeriod => r.control_period,
             PremiseKind::Latency => f64::from(r.latency),
             // The reaction radius, or the initial gap when that is smaller: the model's
@@ -103,7 +104,7 @@ impl PremiseKind {
             PremiseKind::FirstDetectionGap => problem
                 .controller
                 .reaction_radius
-                .min(problem.environment.initial_gap),
+                .min(problem.environment.initial_gap.min()),
             // The model observes exactly.
             PremiseKind::ObservationNoise => 0.0,
         }

@@ -142,11 +142,11 @@ pub fn scene_premises(scene: &Scene) -> Vec<Premise> {
         controller: scene.controller.clone(),
         environment: Environment {
             obstacle_speed: scene.largest_moving_bound(),
-            initial_gap: if nearest.is_finite() {
+            initial_gap: crate::core::model::Position::At(if nearest.is_finite() {
                 nearest
             } else {
                 scene.controller.reaction_radius
-            },
+            }),
         },
     };
     premises(&problem)

@@ -38,7 +38,6 @@ use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar};
 use crate::core::rational::Rational;
 use crate::core::scene::{Position, Scene};
-use crate::core::semantics::Mode;
 use crate::core::simulate;
 use crate::proof::schedule::{Decomposition, Ending, Piece};
 
@@ -244,11 +243,7 @@ fn goal_step(params: &Params<Exact>, goal: f64) -> usize {
     let p: Params<Rational> = params.map(Rational::from_exact);
     let goal = Rational::from_exact(&<Exact as Scalar>::decimal(goal));
     let two_b = Rational::int(2) * p.b.clone();
-    let mut state = crate::core::semantics::RobotState {
-        position: Rational::zero(),
-        speed: Rational::zero(),
-        mode: Mode::Accelerate,
-    };
+    let mut state = crate::core::semantics::RobotState::initial(&p);
     let mut k = 0;
     loop {
         let reach =

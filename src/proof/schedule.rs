@@ -171,11 +171,7 @@ fn stopping(p: &Params<Exact>, v: Exact) -> (Exact, Exact) {
 /// The drive profile up to the cruise onset, through the step function (in [`Rational`]).
 fn drive_profile(params: &Params<Exact>) -> Vec<RobotState<Exact>> {
     let p: Params<Rational> = params.map(Rational::from_exact);
-    let mut state = RobotState {
-        position: Rational::zero(),
-        speed: Rational::zero(),
-        mode: Mode::Accelerate,
-    };
+    let mut state = RobotState::initial(&p);
     let mut profile = Vec::new();
     loop {
         profile.push(RobotState {
@@ -239,10 +235,11 @@ impl Decomposition {
     fn find_brake_range(&mut self) {
         let p = self.params.clone();
         let per_step = p.v_max.clone() * p.dt.clone();
-        // n_end: first gap index the robot alone reaches the obstacle's start (g0 − P ≤ 0).
+        // n_end: first gap index the robot alone reaches the obstacle's farthest start
+        // (g0_max − P ≤ 0).
         let n_end = self.first_index(
-            |k, dec| dec.position(k) >= p.g0,
-            (p.g0.clone() - self.position(self.cruise_from)) / per_step,
+            |k, dec| dec.position(k) >= p.g0_max,
+            (p.g0_max.clone() - self.position(self.cruise_from)) / per_step,
         );
         // n_start: first gap index the fastest obstacle can be observed within ρ.
         let closing = (p.v_max.clone() + p.W.clone()) * p.dt.clone();
@@ -507,14 +504,18 @@ impl Decomposition {
 
     /// Variables u = g_m, then w_m .. w_{n−1}, with their boxes.
     fn variables(&self, s: &Params<ParamAffine>, piece: &Piece, m: usize, n: usize) -> Vec<Var> {
-        let hi = s.g0.clone() - ParamAffine::constant(self.position(m));
+        // From the farthest start with the obstacle standing still ...
+        let hi = s.g0_max.clone() - ParamAffine::constant(self.position(m));
         let lo = if piece.merged {
             ParamAffine::constant(Exact::ZERO)
         } else if piece.early {
             // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
             self.fastest_approach_affine(s, m).1
         } else {
-            hi.clone() - s.W.scaled(&(self.params.dt.clone() * Exact::from(m)))
+            // ... to the nearest start with the obstacle at W throughout.
+            s.g0.clone()
+                - ParamAffine::constant(self.position(m))
+                - s.W.scaled(&(self.params.dt.clone() * Exact::from(m)))
         };
         let mut vars = vec![Var {
             name: format!("g[{m}]"),
@@ -710,7 +711,7 @@ impl Decomposition {
             return 0;
         }
         let p = &self.params;
-        let hi = p.g0.clone() - self.position(self.anchor(piece));
+        let hi = p.g0_max.clone() - self.position(self.anchor(piece));
         let step = p.v_max.clone() * p.dt.clone();
         let j = ((hi - u.clone()) / step).floor();
         usize::try_from(j).unwrap_or(0)

@@ -11,7 +11,7 @@
 use proptest::prelude::*;
 use safereach::analysis::monte_carlo;
 use safereach::analysis::{Analysis, PieceResult, Verdict, analyse, replay};
-use safereach::core::model::{DangerRule, Params, Problem};
+use safereach::core::model::{DangerRule, Params, Position, Problem};
 use safereach::core::num::{Exact, exact_decimal, exact_float};
 use safereach::proof::program::ProofKind;
 
@@ -853,7 +853,7 @@ fn fast_replay_equals_big_rational_replay() {
                 p.robot.latency = latency;
                 p.environment.obstacle_speed = w;
                 p.controller.reaction_radius = rho;
-                p.environment.initial_gap = 3.0;
+                p.environment.initial_gap = Position::At(3.0);
                 let a = analyse(&p).expect("analyses");
                 let Some(wit) = a.witness else { continue };
                 let params = p.params::<safereach::core::num::Exact>();

@@ -27,4 +27,5 @@ mod scene_search;
 mod scene_uppaal;
 mod sweep;
 mod sweep_report;
+mod uncertainty;
 mod uppaal;

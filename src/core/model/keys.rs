@@ -73,7 +73,7 @@ impl Kind {
                 match found {
                     Some(found) => Err(format!("invalid type: {found}, {EXPECTED}")),
                     // An integer too large for a float is still refused here.
-                    None => check::<crate::core::scene::Position>(value)
+                    None => check::<crate::core::model::Position>(value)
                         .map_err(|_| format!("not a number: {EXPECTED}")),
                 }
             }
@@ -134,6 +134,13 @@ pub(crate) const KEYS: &[KeySpec] = &[
         Bound::NonNegative,
     ),
     spec("robot.clearance", Kind::Number, "m", Bound::NonNegative),
+    spec("robot.braking_min", Kind::Number, "m/s^2", Bound::Positive),
+    spec(
+        "robot.initial_speed",
+        Kind::Number,
+        "m/s",
+        Bound::NonNegative,
+    ),
     spec(
         "controller.assumed_obstacle_speed",
         Kind::Number,
@@ -160,7 +167,7 @@ pub(crate) const KEYS: &[KeySpec] = &[
         "m/s",
         Bound::NonNegative,
     ),
-    spec("environment.initial_gap", Kind::Number, "m", Bound::Free),
+    spec("environment.initial_gap", Kind::Position, "m", Bound::Free),
 ];
 
 /// The tables of a problem file.

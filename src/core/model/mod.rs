@@ -22,6 +22,7 @@ pub(crate) mod error;
 pub(crate) mod keys;
 pub(crate) mod overrides;
 mod params;
+mod position;
 pub(crate) mod read;
 pub(crate) mod validate;
 
@@ -31,6 +32,7 @@ use serde::{Deserialize, Serialize};
 
 pub use error::{Location, ProblemError};
 pub use params::{Params, StepConstants};
+pub use position::Position;
 
 /// A verification problem: one robot, its controller, one oncoming obstacle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -54,7 +56,7 @@ pub struct Robot {
     pub max_speed: f64,
     /// Acceleration a while speeding up (m/s²), > 0.
     pub acceleration: f64,
-    /// Guaranteed deceleration b when braking (m/s²), > 0.
+    /// Deceleration b the controller computes with when braking (m/s²), > 0.
     pub braking: f64,
     /// Control period dt (s), > 0.
     pub control_period: f64,
@@ -62,6 +64,27 @@ pub struct Robot {
     pub latency: u32,
     /// A collision is any instant with the robot moving and gap ≤ clearance (m), ≥ 0.
     pub clearance: f64,
+    /// b_min: the deceleration the plant guarantees while braking (m/s²), in (0, b];
+    /// None: b. The plant may brake at any rate in [b_min, b]; the controller's danger
+    /// distance keeps b.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub braking_min: Option<f64>,
+    /// v0: the robot's speed at t = 0 (m/s), in [0, v_max]; None: 0 (at rest). At v_max it
+    /// starts in Drive, else in Accelerate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_speed: Option<f64>,
+}
+
+impl Robot {
+    /// b_min: the plant's guaranteed deceleration (b unless the problem says less).
+    pub fn plant_braking(&self) -> f64 {
+        self.braking_min.unwrap_or(self.braking)
+    }
+
+    /// v0: the robot's speed at t = 0 (0 unless the problem says otherwise).
+    pub fn start_speed(&self) -> f64 {
+        self.initial_speed.unwrap_or(0.0)
+    }
 }
 
 /// The controller's braking rule.
@@ -98,8 +121,9 @@ pub enum DangerRule {
 pub struct Environment {
     /// W: the real bound on the obstacle's speed (m/s), ≥ 0; 0 is a static obstacle.
     pub obstacle_speed: f64,
-    /// Gap between robot and obstacle at t = 0 (m), > clearance.
-    pub initial_gap: f64,
+    /// Gap between robot and obstacle at t = 0 (m), > clearance; or a range `[min, max]`
+    /// whose every point the environment may choose.
+    pub initial_gap: Position,
 }
 
 impl fmt::Display for DangerRule {
@@ -128,6 +152,8 @@ mod tests {
                 control_period: 0.1,
                 latency: 1,
                 clearance: 0.0,
+                braking_min: None,
+                initial_speed: None,
             },
             controller: Controller {
                 assumed_obstacle_speed: 0.2,
@@ -138,14 +164,18 @@ mod tests {
             },
             environment: Environment {
                 obstacle_speed: 0.15,
-                initial_gap: 10.0,
+                initial_gap: Position::At(10.0),
             },
         }
     }
 
     #[test]
     fn key_table_matches_the_serde_types() {
-        let table: toml::Table = toml::from_str(&seed().to_toml_string()).unwrap();
+        // Every optional key given, so that every key is written.
+        let mut full = seed();
+        full.robot.braking_min = Some(0.4);
+        full.robot.initial_speed = Some(0.1);
+        let table: toml::Table = toml::from_str(&full.to_toml_string()).unwrap();
         let mut keys = Vec::new();
         for (k, v) in &table {
             match v.as_table() {
@@ -157,10 +187,10 @@ mod tests {
         keys.sort();
         known.sort();
         assert_eq!(keys, known);
-        let mut numbers: Vec<&str> = seed().numbers().iter().map(|(k, _)| *k).collect();
+        let mut numbers: Vec<&str> = full.numbers().iter().map(|(k, _)| *k).collect();
         let mut number_keys: Vec<&str> = KEYS
             .iter()
-            .filter(|s| s.kind == Kind::Number)
+            .filter(|s| matches!(s.kind, Kind::Number | Kind::Position))
             .map(|s| s.key)
             .collect();
         numbers.sort();

@@ -12,8 +12,13 @@ pub struct Params<N> {
     pub v_max: N,
     /// a
     pub a: N,
-    /// b
+    /// b: the deceleration the controller computes with (danger distances)
     pub b: N,
+    /// b_min: the deceleration the plant brakes at (≤ b; the worst case of the plant's
+    /// range [b_min, b], docs/semantics.md)
+    pub b_min: N,
+    /// v0: the robot's speed at t = 0
+    pub v0: N,
     /// dt
     pub dt: N,
     /// L (control periods)
@@ -32,8 +37,10 @@ pub struct Params<N> {
     pub wrong_assumption_brake: bool,
     /// W
     pub W: N,
-    /// initial gap
+    /// initial gap (the nearest, when the problem gives a range)
     pub g0: N,
+    /// the farthest initial gap (= g0 unless the problem gives a range)
+    pub g0_max: N,
     /// Products every control period uses, computed once from the numbers above.
     pub k: StepConstants<N>,
 }
@@ -50,23 +57,23 @@ pub struct StepConstants<N> {
     pub a_dt: N,
     /// a·dt²/2
     pub half_a_dt2: N,
-    /// b·dt
-    pub b_dt: N,
-    /// b·dt²/2
-    pub half_b_dt2: N,
+    /// b_min·dt (the plant's braking)
+    pub b_min_dt: N,
+    /// b_min·dt²/2
+    pub half_b_min_dt2: N,
 }
 
 impl<N: Scalar> StepConstants<N> {
-    /// The constants of v_max, a, b and dt.
-    pub fn of(v_max: &N, a: &N, b: &N, dt: &N) -> Self {
+    /// The constants of v_max, a, the plant's braking b_min and dt.
+    pub fn of(v_max: &N, a: &N, b_min: &N, dt: &N) -> Self {
         let half = N::int(1) / N::int(2);
         let dt2 = dt.clone() * dt.clone();
         StepConstants {
             v_max_dt: v_max.clone() * dt.clone(),
             a_dt: a.clone() * dt.clone(),
             half_a_dt2: half.clone() * a.clone() * dt2.clone(),
-            b_dt: b.clone() * dt.clone(),
-            half_b_dt2: half.clone() * b.clone() * dt2,
+            b_min_dt: b_min.clone() * dt.clone(),
+            half_b_min_dt2: half.clone() * b_min.clone() * dt2,
             half,
         }
     }
@@ -78,17 +85,20 @@ impl Problem {
         let r = &self.robot;
         let c = &self.controller;
         let e = &self.environment;
-        let (v_max, a, b, dt) = (
+        let (v_max, a, b, b_min, dt) = (
             N::decimal(r.max_speed),
             N::decimal(r.acceleration),
             N::decimal(r.braking),
+            N::decimal(r.plant_braking()),
             N::decimal(r.control_period),
         );
         Params {
-            k: StepConstants::of(&v_max, &a, &b, &dt),
+            k: StepConstants::of(&v_max, &a, &b_min, &dt),
             v_max,
             a,
             b,
+            b_min,
+            v0: N::decimal(r.start_speed()),
             dt,
             L: r.latency as usize,
             clearance: N::decimal(r.clearance),
@@ -98,7 +108,8 @@ impl Problem {
             buffer: N::decimal(c.buffer),
             wrong_assumption_brake: c.wrong_assumption_brake,
             W: N::decimal(e.obstacle_speed),
-            g0: N::decimal(e.initial_gap),
+            g0: N::decimal(e.initial_gap.min()),
+            g0_max: N::decimal(e.initial_gap.max()),
         }
     }
 }
@@ -110,8 +121,8 @@ impl<N: Scalar> StepConstants<N> {
             v_max_dt: f(&self.v_max_dt),
             a_dt: f(&self.a_dt),
             half_a_dt2: f(&self.half_a_dt2),
-            b_dt: f(&self.b_dt),
-            half_b_dt2: f(&self.half_b_dt2),
+            b_min_dt: f(&self.b_min_dt),
+            half_b_min_dt2: f(&self.half_b_min_dt2),
         }
     }
 }
@@ -123,6 +134,8 @@ impl<N: Scalar> Params<N> {
             v_max: f(&self.v_max),
             a: f(&self.a),
             b: f(&self.b),
+            b_min: f(&self.b_min),
+            v0: f(&self.v0),
             dt: f(&self.dt),
             L: self.L,
             clearance: f(&self.clearance),
@@ -133,6 +146,7 @@ impl<N: Scalar> Params<N> {
             wrong_assumption_brake: self.wrong_assumption_brake,
             W: f(&self.W),
             g0: f(&self.g0),
+            g0_max: f(&self.g0_max),
             k: self.k.map(&f),
         }
     }
@@ -141,5 +155,13 @@ impl<N: Scalar> Params<N> {
     /// move faster than the controller assumes (W > V_a).
     pub fn wrong_assumption_active(&self) -> bool {
         self.wrong_assumption_brake && self.W > self.V_a
+    }
+}
+
+impl<N: Scalar> Params<N> {
+    /// Whether the initial gap is a range (the environment picks it; the analysis covers
+    /// every point).
+    pub fn gap_is_range(&self) -> bool {
+        self.g0_max != self.g0
     }
 }

@@ -5,16 +5,19 @@ use crate::core::model::error::{Violation, show_count, show_number, with_unit};
 use crate::core::model::keys::{
     Bound, KEYS, KeySpec, Kind, MAX_LATENCY, MAX_MAGNITUDE, MAX_PERIODS,
 };
-use crate::core::model::{Controller, Problem, Robot};
+use crate::core::model::{Controller, Position, Problem, Robot};
 
 impl Problem {
-    /// The problem's numbers with their dotted keys, in file order.
-    pub(super) fn numbers(&self) -> [(&'static str, f64); 10] {
+    /// The problem's numbers with their dotted keys, in file order (optional keys only
+    /// when given; a range's ends both under its key).
+    pub(super) fn numbers(&self) -> Vec<(&'static str, f64)> {
         let env = &self.environment;
-        let mut numbers = [("", 0.0); 10];
-        numbers[..8].copy_from_slice(&robot_controller_numbers(&self.robot, &self.controller));
-        numbers[8] = ("environment.obstacle_speed", env.obstacle_speed);
-        numbers[9] = ("environment.initial_gap", env.initial_gap);
+        let mut numbers = robot_controller_numbers(&self.robot, &self.controller);
+        numbers.push(("environment.obstacle_speed", env.obstacle_speed));
+        numbers.push(("environment.initial_gap", env.initial_gap.min()));
+        if env.initial_gap.is_range() {
+            numbers.push(("environment.initial_gap", env.initial_gap.max()));
+        }
         numbers
     }
 
@@ -30,6 +33,7 @@ impl Problem {
         let numbers = self.numbers();
         KEYS.iter()
             .find_map(|spec| self.key_violation(spec, &numbers))
+            .or_else(|| robot_violation(&self.robot))
             .or_else(|| self.gap_violation())
             .or_else(|| self.horizon_violation())
     }
@@ -43,18 +47,39 @@ impl Problem {
         if spec.kind == Kind::Count {
             return latency_violation(spec, self.robot.latency);
         }
-        let &(_, x) = numbers.iter().find(|(k, _)| *k == spec.key)?;
-        number_violation(spec, x)
+        numbers
+            .iter()
+            .filter(|(k, _)| *k == spec.key)
+            .find_map(|&(_, x)| number_violation(spec, x))
     }
 
-    /// A robot that would start in collision.
+    /// A range the wrong way round, or a robot that would start in collision.
     fn gap_violation(&self) -> Option<Violation> {
         let (r, e) = (&self.robot, &self.environment);
-        (e.initial_gap <= r.clearance).then(|| Violation {
+        let gap = e.initial_gap;
+        if let Position::Range(lo, hi) = gap
+            && lo > hi
+        {
+            return Some(Violation {
+                key: "environment.initial_gap",
+                value: show_range(&gap),
+                reason: format!(
+                    "a range [min, max] needs min <= max; here min {} > max {}",
+                    show_number(lo),
+                    show_number(hi)
+                ),
+            });
+        }
+        (gap.min() <= r.clearance).then(|| Violation {
             key: "environment.initial_gap",
-            value: show_number(e.initial_gap),
+            value: show_range(&gap),
             reason: format!(
-                "must be > robot.clearance = {} (m): the robot would start in collision",
+                "{} > robot.clearance = {} (m): the robot would start in collision",
+                if gap.is_range() {
+                    "its min must be"
+                } else {
+                    "must be"
+                },
                 show_number(r.clearance)
             ),
         })
@@ -62,7 +87,7 @@ impl Problem {
 
     /// A horizon beyond what any engine should be asked to cover.
     fn horizon_violation(&self) -> Option<Violation> {
-        let gap = self.environment.initial_gap;
+        let gap = self.environment.initial_gap.max();
         distance_horizon_violation(
             &self.robot,
             "environment.initial_gap",
@@ -74,9 +99,53 @@ impl Problem {
     }
 }
 
-/// The robot's and the controller's numbers with their dotted keys, in file order.
-pub(crate) fn robot_controller_numbers(r: &Robot, c: &Controller) -> [(&'static str, f64); 8] {
-    [
+/// A number or a range as a file writes it.
+pub(crate) fn show_range(p: &Position) -> String {
+    match *p {
+        Position::At(x) => show_number(x),
+        Position::Range(lo, hi) => format!("[{}, {}]", show_number(lo), show_number(hi)),
+    }
+}
+
+/// The robot's keys that tie to another key: the plant's braking at most the controller's,
+/// an initial speed at most the top speed.
+pub(crate) fn robot_violation(r: &Robot) -> Option<Violation> {
+    if let Some(b_min) = r.braking_min
+        && b_min > r.braking
+    {
+        return Some(Violation {
+            key: "robot.braking_min",
+            value: show_number(b_min),
+            reason: format!(
+                "must be <= robot.braking = {} (m/s^2): the plant guarantees at least \
+                 braking_min, the controller computes with braking",
+                show_number(r.braking)
+            ),
+        });
+    }
+    if let Some(v0) = r.initial_speed
+        && v0 > r.max_speed
+    {
+        return Some(Violation {
+            key: "robot.initial_speed",
+            value: show_number(v0),
+            reason: format!(
+                "must be <= robot.max_speed = {} (m/s)",
+                show_number(r.max_speed)
+            ),
+        });
+    }
+    None
+}
+
+/// The robot's and the controller's numbers with their dotted keys, in file order (the
+/// optional robot keys only when given).
+pub(crate) fn robot_controller_numbers(r: &Robot, c: &Controller) -> Vec<(&'static str, f64)> {
+    let optional = [
+        ("robot.braking_min", r.braking_min),
+        ("robot.initial_speed", r.initial_speed),
+    ];
+    let mut numbers = vec![
         ("robot.max_speed", r.max_speed),
         ("robot.acceleration", r.acceleration),
         ("robot.braking", r.braking),
@@ -88,7 +157,9 @@ pub(crate) fn robot_controller_numbers(r: &Robot, c: &Controller) -> [(&'static 
         ),
         ("controller.reaction_radius", c.reaction_radius),
         ("controller.buffer", c.buffer),
-    ]
+    ];
+    numbers.extend(optional.iter().filter_map(|&(k, x)| Some((k, x?))));
+    numbers
 }
 
 /// `latency` above the cap [`MAX_LATENCY`] of `spec` (`robot.latency`).
@@ -143,11 +214,23 @@ pub(crate) fn motion_horizon_violation(r: &Robot) -> Option<Violation> {
         "to reach top speed",
     )
     .or_else(|| {
+        let (key, b, formula) = match r.braking_min {
+            Some(b_min) => (
+                "robot.braking_min",
+                b_min,
+                "max_speed / (braking_min * control_period)",
+            ),
+            None => (
+                "robot.braking",
+                r.braking,
+                "max_speed / (braking * control_period)",
+            ),
+        };
         absurd(
-            "robot.braking",
-            r.braking,
-            r.max_speed / (r.braking * r.control_period),
-            "max_speed / (braking * control_period)",
+            key,
+            b,
+            r.max_speed / (b * r.control_period),
+            formula,
             "to stop from top speed",
         )
     })

@@ -221,6 +221,8 @@ mod tests {
             rear_gap: 0.2,
         });
         s.lanes = vec![0, 1];
+        s.robot.braking_min = Some(0.04);
+        s.robot.initial_speed = Some(0.1);
         s
     }
 

@@ -64,6 +64,7 @@ mod write;
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::core::model::Position;
 #[cfg(doc)]
 use crate::core::model::ProblemError;
 use crate::core::model::{Controller, Environment, Params, Problem, Robot};
@@ -132,34 +133,6 @@ pub struct Obstacle {
     pub is_static: bool,
 }
 
-/// An obstacle's initial x: a number, or a range chosen adversarially.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum Position {
-    /// Exactly here (m).
-    At(f64),
-    /// Anywhere in [min, max] (m).
-    Range(f64, f64),
-}
-
-impl Position {
-    /// The nearest possible initial x (m).
-    pub fn min(&self) -> f64 {
-        match *self {
-            Position::At(x) => x,
-            Position::Range(lo, _) => lo,
-        }
-    }
-
-    /// The farthest possible initial x (m).
-    pub fn max(&self) -> f64 {
-        match *self {
-            Position::At(x) => x,
-            Position::Range(_, hi) => hi,
-        }
-    }
-}
-
 impl Scene {
     /// The scene a single-obstacle problem stands for: one moving obstacle in lane 0.
     pub fn from_problem(problem: &Problem) -> Scene {
@@ -174,7 +147,7 @@ impl Scene {
             obstacles: vec![Obstacle {
                 name: "obstacle-0".into(),
                 lane: 0,
-                position: Position::At(problem.environment.initial_gap),
+                position: problem.environment.initial_gap,
                 max_speed: problem.environment.obstacle_speed,
                 is_static: false,
             }],
@@ -188,9 +161,11 @@ impl Scene {
         let [o] = self.obstacles.as_slice() else {
             return None;
         };
-        let Position::At(x) = o.position else {
+        // A range stays with the scene engines, which have always answered it.
+        let x = o.position;
+        if x.is_range() {
             return None;
-        };
+        }
         if o.lane != 0 || o.is_static || self.goal.is_some() || self.lane_change.is_some() {
             return None;
         }
@@ -216,7 +191,7 @@ impl Scene {
             controller: self.controller.clone(),
             environment: Environment {
                 obstacle_speed: o.max_speed,
-                initial_gap: o.position.min(),
+                initial_gap: Position::At(o.position.min()),
             },
         };
         if o.is_static {
@@ -234,7 +209,7 @@ impl Scene {
             controller: self.controller.clone(),
             environment: Environment {
                 obstacle_speed: 0.0,
-                initial_gap: 0.0,
+                initial_gap: Position::At(0.0),
             },
         }
         .params()

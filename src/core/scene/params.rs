@@ -70,7 +70,11 @@ impl Scene {
             controller: self.controller.clone(),
             environment: Environment {
                 obstacle_speed: self.largest_moving_bound(),
-                initial_gap: if nearest.is_finite() { nearest } else { 0.0 },
+                initial_gap: crate::core::model::Position::At(if nearest.is_finite() {
+                    nearest
+                } else {
+                    0.0
+                }),
             },
         };
         let robot: Params<N> = problem.params();

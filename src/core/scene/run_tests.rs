@@ -22,6 +22,8 @@ fn problem(latency: u32, rule: DangerRule, wrong: bool, w: f64, g0: f64) -> Prob
             control_period: 0.1,
             latency,
             clearance: 0.05,
+            braking_min: None,
+            initial_speed: None,
         },
         controller: Controller {
             assumed_obstacle_speed: 0.2,
@@ -32,7 +34,7 @@ fn problem(latency: u32, rule: DangerRule, wrong: bool, w: f64, g0: f64) -> Prob
         },
         environment: Environment {
             obstacle_speed: w,
-            initial_gap: g0,
+            initial_gap: crate::core::model::Position::At(g0),
         },
     }
 }

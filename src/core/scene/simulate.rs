@@ -398,7 +398,7 @@ fn push_rows<N: Scalar>(
 /// any more, unless the robot has passed through an obstacle in its lane: it reaches the
 /// farthest obstacle start (plus the clearance and the rear gap) or its goal even if no
 /// obstacle moves, sees that with latency L, finishes a lane change, then stops within
-/// v_max/(b·dt) more.
+/// v_max/(b_min·dt) more (the plant's braking).
 pub fn horizon(params: &SceneParams<f64>) -> usize {
     let p = &params.robot;
     let rear = params.lane_change.as_ref().map_or(0.0, |lc| lc.rear_gap);
@@ -409,6 +409,6 @@ pub fn horizon(params: &SceneParams<f64>) -> usize {
         .fold(0.0, f64::max);
     let distance = farthest.max(params.goal.unwrap_or(0.0));
     let reach = p.v_max / p.a + distance / p.v_max;
-    let stop = p.v_max / p.b;
+    let stop = p.v_max / p.b_min;
     ((reach + stop) / p.dt).ceil() as usize + p.L + params.lane_change_periods() + 4
 }

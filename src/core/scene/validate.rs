@@ -8,7 +8,7 @@ use crate::core::model::error::{Violation, show_number};
 use crate::core::model::keys::{KEYS, Kind, MAX_PERIODS};
 use crate::core::model::validate::{
     distance_horizon_violation, latency_violation, motion_horizon_violation, number_violation,
-    robot_controller_numbers,
+    robot_controller_numbers, robot_violation,
 };
 use crate::core::model::{ProblemError, error::show_count};
 use crate::core::scene::keys::{
@@ -151,6 +151,7 @@ impl Scene {
                 }
                 _ => None,
             })
+            .or_else(|| robot_violation(&self.robot))
             .map(SceneViolation::plain)
     }
 

@@ -143,11 +143,7 @@ impl<N: Scalar> SceneWorld<N> {
         let l = params.robot.L;
         SceneWorld {
             k: 0,
-            robot: RobotState {
-                position: N::zero(),
-                speed: N::zero(),
-                mode: Mode::Accelerate,
-            },
+            robot: RobotState::initial(&params.robot),
             lateral: Lateral::start(),
             tracks: starts
                 .into_iter()

@@ -11,7 +11,7 @@ use dashu_int::{IBig, UBig};
 use super::{INT_MAX, MAX_PROFILE, UppaalError};
 use crate::core::model::{DangerRule, Params, Problem};
 use crate::core::num::Exact;
-use crate::core::semantics::{Mode, RobotState, robot_motion};
+use crate::core::semantics::{RobotState, robot_motion};
 use crate::crosscheck::explore::SpeedSet;
 
 /// The problem's numbers on the integer grid.
@@ -65,12 +65,15 @@ pub(super) fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
 /// The drive profile's speeds: every speed the robot can brake from (0, then one per
 /// control period until v_max).
 pub(super) fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
+    if p.v0 != Exact::ZERO || p.b_min != p.b {
+        return Err(UppaalError::Grid(
+            "the UPPAAL export models a robot that starts at rest and brakes at exactly \
+             robot.braking; robot.initial_speed and robot.braking_min are not exported yet"
+                .into(),
+        ));
+    }
     let mut drive = vec![Exact::ZERO];
-    let mut state = RobotState {
-        position: Exact::ZERO,
-        speed: Exact::ZERO,
-        mode: Mode::Accelerate,
-    };
+    let mut state = RobotState::initial(p);
     while state.speed < p.v_max {
         if drive.len() > MAX_PROFILE {
             return Err(UppaalError::Grid(format!(
@@ -122,6 +125,12 @@ impl Grid {
     /// The exact grid of a (validated) problem with obstacle speeds `speeds`.
     pub fn new(problem: &Problem, speeds: &SpeedSet) -> Result<Grid, UppaalError> {
         let p: Params<Exact> = problem.params();
+        if p.gap_is_range() {
+            return Err(UppaalError::Grid(
+                "the UPPAAL export takes one initial gap; environment.initial_gap is a range"
+                    .into(),
+            ));
+        }
         let drive = drive_profile(&p)?;
         let need = grid_quantities(&p, &drive, speeds);
         let scale = need.iter().fold(UBig::ONE, |d, x| lcm(&d, x.denominator()));

@@ -92,7 +92,7 @@ pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
         .params::<crate::core::num::Exact>()
         .map(Rational::from_exact);
     let horizon = simulate::horizon(&p.map(|x| x.as_f64()));
-    let mut profile = Profile::new();
+    let mut profile = Profile::new(&p);
     let mut per: Vec<Option<Worst>> = vec![None; p.obstacles.len()];
     let mut overall: Option<WorstRun> = None;
     let stats = walk(&p, &mut profile, horizon, NODE_BUDGET, |leaf, profile| {
@@ -140,7 +140,7 @@ pub fn worst_behaviour(
     let p: SceneParams<Rational> = scene
         .params::<crate::core::num::Exact>()
         .map(Rational::from_exact);
-    let mut profile = Profile::new();
+    let mut profile = Profile::new(&p);
     let mut starts = Vec::new();
     let mut speeds = Vec::new();
     for (i, chain) in run.leaf.chains.iter().enumerate() {

@@ -17,9 +17,7 @@ use crate::core::rational::Rational;
 use crate::core::scene::SceneParams;
 use crate::core::scene::guards::{Command, scene_guard};
 use crate::core::scene::lateral::{LaneChangeEvent, Lateral};
-use crate::core::semantics::{
-    BrakeReason, Mode, Observation, RobotState, danger_distance, robot_motion,
-};
+use crate::core::semantics::{BrakeReason, Observation, RobotState, danger_distance, robot_motion};
 
 use super::cells::{Cell, Role, Thresholds, cells};
 use super::chain::Chain;
@@ -32,14 +30,10 @@ pub struct Profile {
 }
 
 impl Profile {
-    /// The profile's first state.
-    pub fn new() -> Profile {
+    /// The profile's first state: the robot at t = 0.
+    pub fn new(p: &SceneParams<Rational>) -> Profile {
         Profile {
-            states: vec![RobotState {
-                position: Rational::zero(),
-                speed: Rational::zero(),
-                mode: Mode::Accelerate,
-            }],
+            states: vec![RobotState::initial(&p.robot)],
         }
     }
 
@@ -51,12 +45,6 @@ impl Profile {
             self.states.push(next);
         }
         &self.states[k]
-    }
-}
-
-impl Default for Profile {
-    fn default() -> Self {
-        Profile::new()
     }
 }
 

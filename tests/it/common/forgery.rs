@@ -3,6 +3,7 @@
 //! consistent premises), and the loops that hold `check` against them. Solver-free (the proof
 //! layer only), so a build without the analyser runs them too.
 
+use safereach::core::model::Position;
 use safereach::core::num::f64_at_most;
 use safereach::proof::certificate::{Certificate, check, premises};
 use safereach::proof::program::ProofKind;
@@ -138,7 +139,8 @@ pub const FORGERIES: &[(&str, Edit)] = &[
         Some(())
     }),
     ("initial gap raised", |c| {
-        c.problem.environment.initial_gap += 1.0;
+        c.problem.environment.initial_gap =
+            Position::At(c.problem.environment.initial_gap.min() + 1.0);
         Some(())
     }),
     ("latency raised", |c| {

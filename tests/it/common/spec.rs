@@ -5,7 +5,7 @@ use std::fmt::Debug;
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config as ProptestConfig, RngSeed};
-use safereach::core::model::{Controller, DangerRule, Environment, Problem, Robot};
+use safereach::core::model::{Controller, DangerRule, Environment, Position, Problem, Robot};
 
 /// The numbers of a problem, in the order a problem file lists them, and its name.
 #[derive(Clone, Copy, Debug)]
@@ -81,6 +81,8 @@ impl Spec {
                 control_period: self.dt,
                 latency: self.latency,
                 clearance: self.clearance,
+                braking_min: None,
+                initial_speed: None,
             },
             controller: Controller {
                 assumed_obstacle_speed: self.v_a,
@@ -91,7 +93,7 @@ impl Spec {
             },
             environment: Environment {
                 obstacle_speed: self.w,
-                initial_gap: self.g0,
+                initial_gap: Position::At(self.g0),
             },
         }
     }
