@@ -235,6 +235,7 @@ impl Case {
                 obstacle_speed: 0.0,
                 initial_gap: Position::At(clearance + 1.0),
             },
+            sensing: None,
         }
         .validate("brute-force scene")
         .unwrap_or_else(|e| panic!("{self:?} is not a valid scene: {e}"));

@@ -470,7 +470,9 @@ fn replay_witness(
     let params = &dec.params;
     let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
     speeds.resize(max_steps, quantised(&params.W));
-    let replay = simulate::replay(params, &speeds, max_steps, !piece.has_objective());
+    let react_at = piece.has_objective().then_some(piece.brake + shift);
+    let replay =
+        simulate::replay_reacting_at(params, &speeds, react_at, max_steps, !piece.has_objective());
     speeds.truncate(replay.periods());
     Witness {
         piece,
@@ -510,6 +512,8 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
         W: p.W.to_f64().value(),
         g0: p.g0.to_f64().value(),
         g0_max: p.g0_max.to_f64().value(),
+        sigma_g: p.sigma_g.to_f64().value(),
+        sigma_w: p.sigma_w.to_f64().value(),
     }
 }
 

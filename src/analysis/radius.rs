@@ -262,8 +262,9 @@ pub fn safe_radius(problem: &Problem) -> Result<Boundary, AnalysisError> {
     let param = Parameter::ReactionRadius;
     let mut count = 0;
     let p = problem.params::<Exact>();
-    // The farthest initial gap: a radius beyond it sees every start from the first observation.
-    let g0 = problem.environment.initial_gap.max();
+    // The farthest initial gap (plus the gap noise, by which it may be seen farther): a
+    // radius beyond it sees every start from the first observation.
+    let g0 = problem.environment.initial_gap.max() + problem.gap_noise();
     // Beyond d_coll(v_max) only the wrong-assumption guard still reacts to a larger radius;
     // beyond the initial gap the obstacle is in the area from the first observation.
     let cap = match danger_distance(&p, &p.v_max) {

@@ -96,9 +96,10 @@ fn replay(
             cert_path.display()
         )
     })?;
-    let replay = simulate::replay(
+    let replay = simulate::replay_reacting_at(
         &exact,
         &witness.obstacle_speeds,
+        witness.react_at(),
         witness.obstacle_speeds.len(),
         false,
     );

@@ -269,6 +269,9 @@ pub fn symbolic(p: &Params<Exact>) -> Params<ParamAffine> {
         } else {
             s(Parameter::InitialGap)
         },
+        // Noise bounds are not named parameters yet (issue 11 names them).
+        sigma_g: c(&p.sigma_g),
+        sigma_w: c(&p.sigma_w),
         k: p.k.map(&c),
     }
 }

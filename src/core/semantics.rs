@@ -347,10 +347,71 @@ impl<N: Scalar> World<N> {
     }
 
     /// Advance one control period with the obstacle moving at `w` (the caller keeps
-    /// 0 ≤ w ≤ W; the explorer and replay check that).
+    /// 0 ≤ w ≤ W; the explorer and replay check that). With noisy sensing the environment
+    /// keeps the robot from reacting for as long as the noise allows ([`World::step_with`]).
     pub fn step(&mut self, w: N) -> StepRecord<N> {
+        self.step_with(w, false)
+    }
+
+    /// What the robot sees at the start of this period, with the observation error the
+    /// environment picks within ±σ (DESIGN.md §1.2): the error that lets the guard fire if
+    /// `react` and one is possible, else the one that keeps it quiet if one is possible.
+    /// Without noise it is the observation itself.
+    pub fn seen(&self, react: bool) -> Option<Observation<N>> {
+        let truth = self.observation()?;
         let p = &self.params;
-        let observation = self.observation();
+        if !p.noisy() {
+            return Some(truth);
+        }
+        let (g, sg) = (truth.gap.clone(), p.sigma_g.clone());
+        let (low, high) = (g.clone() - sg.clone(), g.clone() + sg);
+        // A speed is measured (and can be off) only once a period has been observed.
+        let speed = if self.k < p.L + 1 {
+            truth.speed.clone()
+        } else if react {
+            truth.speed.clone() + p.sigma_w.clone()
+        } else {
+            truth.speed.clone() - p.sigma_w.clone()
+        };
+        let clamp = |x: N| N::min_of(N::max_of(x, low.clone()), high.clone());
+        let gaps = if react {
+            let theta = match danger_distance(p, &self.robot.speed) {
+                Some(d) => N::min_of(d, p.rho.clone()),
+                None => p.rho.clone(),
+            };
+            vec![
+                low.clone(),
+                clamp(theta),
+                clamp(p.rho.clone()),
+                high.clone(),
+            ]
+        } else {
+            // Seen beyond the area, or seen as already passed (gap ≤ 0).
+            vec![high.clone(), low.clone()]
+        };
+        let v = &self.robot.speed;
+        let pick = gaps
+            .iter()
+            .find(|&gap| {
+                let obs = Observation {
+                    gap: gap.clone(),
+                    speed: speed.clone(),
+                };
+                guard(p, v, &obs).is_some() == react
+            })
+            .unwrap_or(&gaps[0]);
+        Some(Observation {
+            gap: pick.clone(),
+            speed,
+        })
+    }
+
+    /// [`World::step`] with the environment's aim for this period's observation error:
+    /// `react` lets the robot react if the noise allows, else it is kept from reacting if
+    /// the noise allows ([`World::seen`]). Without noise `react` changes nothing.
+    pub fn step_with(&mut self, w: N, react: bool) -> StepRecord<N> {
+        let p = &self.params;
+        let observation = self.seen(react);
         let mut brake = None;
         if matches!(self.robot.mode, Mode::Accelerate | Mode::Drive) {
             if let Some(obs) = &observation {

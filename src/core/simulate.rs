@@ -59,7 +59,21 @@ pub struct Run<N> {
 /// can go on to the instant the robot rests.)
 pub fn run<N: Scalar>(
     params: Params<N>,
+    speed: impl FnMut(usize) -> N,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<N> {
+    run_reacting_at(params, speed, None, max_steps, stop_at_collision)
+}
+
+/// [`run`] where, with noisy sensing, the environment keeps the robot from reacting before
+/// period `react_at` and lets it react from then on (None: never), as far as the noise
+/// allows ([`World::step_with`]). A worst case is replayed so: its schedule names the period
+/// at which the robot brakes.
+pub fn run_reacting_at<N: Scalar>(
+    params: Params<N>,
     mut speed: impl FnMut(usize) -> N,
+    react_at: Option<usize>,
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Run<N> {
@@ -72,7 +86,8 @@ pub fn run<N: Scalar>(
         min_moving_gap: None,
     };
     while world.k() < max_steps && !world.stopped() {
-        let rec = world.step(speed(world.k()));
+        let k = world.k();
+        let rec = world.step_with(speed(k), react_at.is_some_and(|t| k >= t));
         if let Some(reason) = rec.brake {
             outcome.brake = Some((rec.k, reason));
         }
@@ -159,9 +174,20 @@ pub fn replay(
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Replay {
+    replay_reacting_at(params, speeds, None, max_steps, stop_at_collision)
+}
+
+/// [`replay`] with the observation errors of [`run_reacting_at`].
+pub fn replay_reacting_at(
+    params: &Params<Exact>,
+    speeds: &[f64],
+    react_at: Option<usize>,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Replay {
     let params: Params<Rational> = params.map(Rational::from_exact);
     let tail = params.W.clone();
-    let run = run(
+    let run = run_reacting_at(
         params.clone(),
         |k| {
             speeds
@@ -169,6 +195,7 @@ pub fn replay(
                 .map(|&w| Rational::from_exact(&exact_float(w)))
                 .unwrap_or_else(|| tail.clone())
         },
+        react_at,
         max_steps,
         stop_at_collision,
     );

@@ -182,7 +182,13 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }
-    let replay = simulate::replay(&params, &w.obstacle_speeds, w.obstacle_speeds.len(), false);
+    let replay = simulate::replay_reacting_at(
+        &params,
+        &w.obstacle_speeds,
+        w.react_at(),
+        w.obstacle_speeds.len(),
+        false,
+    );
     if replay.periods() != w.obstacle_speeds.len() {
         return invalid("witness lists speeds past the end of its run");
     }

@@ -105,8 +105,8 @@ impl PremiseKind {
                 .controller
                 .reaction_radius
                 .min(problem.environment.initial_gap.min()),
-            // The model observes exactly.
-            PremiseKind::ObservationNoise => 0.0,
+            // σ_g: the gap noise the analysis covered (0: exact observations).
+            PremiseKind::ObservationNoise => problem.gap_noise(),
         }
     }
 

@@ -148,6 +148,7 @@ pub fn scene_premises(scene: &Scene) -> Vec<Premise> {
                 scene.controller.reaction_radius
             }),
         },
+        sensing: None,
     };
     premises(&problem)
 }

@@ -66,6 +66,15 @@
 //!
 //! A robot that never moves (braking at step 0 at rest) cannot collide: such a piece is
 //! left out.
+//!
+//! # Sensing noise
+//! With observed gaps off by up to σ_g and measured speeds by up to σ_w, chosen by the
+//! environment per observation, every row above is the true gap's condition for *some*
+//! error to give its observation what the row asks (an error enters only its own
+//! observation's guard, so it projects out exactly): "seen > θ" becomes g > θ − σ_g,
+//! "seen ≤ θ" g ≤ θ + σ_g, "seen > 0" g > −σ_g, "seen ≤ 0" g ≤ σ_g, "seen ≤ V_a" w ≤ V_a + σ_w
+//! and "seen > V_a" w > V_a − σ_w. Monotonicity, the entries and the shift are unchanged
+//! (docs/semantics.md §12).
 
 use serde::{Deserialize, Serialize};
 
@@ -237,21 +246,25 @@ impl Decomposition {
         let per_step = p.v_max.clone() * p.dt.clone();
         // n_end: first gap index the robot alone reaches the obstacle's farthest start
         // (g0_max − P ≤ 0).
+        // With noise an observation can still be positive until the gap is ≤ −σ_g.
+        let beyond = p.g0_max.clone() + p.sigma_g.clone();
         let n_end = self.first_index(
-            |k, dec| dec.position(k) >= p.g0_max,
-            (p.g0_max.clone() - self.position(self.cruise_from)) / per_step,
+            |k, dec| dec.position(k) >= beyond,
+            (beyond.clone() - self.position(self.cruise_from)) / per_step,
         );
         // n_start: first gap index the fastest obstacle can be observed within ρ.
         let closing = (p.v_max.clone() + p.W.clone()) * p.dt.clone();
         let c = self.cruise_from;
+        // (Seen within ρ for some error: a true gap ≤ ρ + σ_g.)
+        let reach = p.rho.clone() + p.sigma_g.clone();
         let far = p.g0.clone()
             - self.position(c)
             - p.W.clone() * p.dt.clone() * Exact::from(c)
-            - p.rho.clone();
+            - reach.clone();
         let n_start = self.first_index(
             |k, dec| {
                 p.g0.clone() - dec.position(k) - p.W.clone() * p.dt.clone() * Exact::from(k)
-                    <= p.rho
+                    <= reach
             },
             far / closing,
         );
@@ -507,7 +520,8 @@ impl Decomposition {
         // From the farthest start with the obstacle standing still ...
         let hi = s.g0_max.clone() - ParamAffine::constant(self.position(m));
         let lo = if piece.merged {
-            ParamAffine::constant(Exact::ZERO)
+            // The rows force g_n > −σ_g (the observation at T positive for some error).
+            -s.sigma_g.clone()
         } else if piece.early {
             // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
             self.fastest_approach_affine(s, m).1
@@ -558,7 +572,10 @@ impl Decomposition {
         let t = piece.brake;
         let nv = vars.len();
         let gap = |i: usize| self.gap(m, i, nv);
+        let sg = &s.sigma_g;
         match piece.entry {
+            // With noise (σ_g, σ_w) each row is the true gap's condition for *some* error
+            // within ±σ to give the observation its row asks for (see the module docs).
             None => {
                 if t > l {
                     let theta = min_opt(&s.rho, self.danger(s, t - 1));
@@ -566,7 +583,7 @@ impl Decomposition {
                         rows,
                         format!("o[{}] > min(rho, d_coll)", t - 1),
                         &gap(t - 1 - l),
-                        theta,
+                        theta - sg.clone(),
                     );
                 }
             }
@@ -576,18 +593,29 @@ impl Decomposition {
                         rows,
                         format!("o[{}] > rho", e - 1),
                         &gap(e - 1 - l),
-                        s.rho.clone(),
+                        s.rho.clone() - sg.clone(),
                     );
                 }
                 if e < t {
-                    at_most(rows, format!("o[{e}] <= rho"), &gap(e - l), s.rho.clone());
+                    at_most(
+                        rows,
+                        format!("o[{e}] <= rho"),
+                        &gap(e - l),
+                        s.rho.clone() - sg.clone(),
+                    );
                     let dk = self
                         .danger(s, t - 1)
                         .expect("in-area pieces exist only with a finite danger distance");
-                    above(rows, format!("o[{}] > d_coll", t - 1), &gap(t - 1 - l), dk);
+                    above(
+                        rows,
+                        format!("o[{}] > d_coll", t - 1),
+                        &gap(t - 1 - l),
+                        dk - sg.clone(),
+                    );
+                    let seen_slow = slowest_fast(s);
                     for k in e..t {
                         if k > l + m {
-                            vars[1 + (k - l - 1) - m].upper = s.V_a.clone();
+                            vars[1 + (k - l - 1) - m].upper = seen_slow.clone();
                         }
                     }
                 }
@@ -606,15 +634,25 @@ impl Decomposition {
         rows: &mut Vec<Row>,
     ) {
         let t = piece.brake;
-        let zero = || ParamAffine::constant(Exact::ZERO);
+        let sg = &s.sigma_g;
         match piece.ending {
             Ending::Danger | Ending::WrongAssumption => {
-                above(rows, format!("o[{t}] > 0"), g_n, zero());
+                above(rows, format!("o[{t}] > 0"), g_n, -sg.clone());
                 if piece.ending == Ending::Danger {
                     let theta = min_opt(&s.rho, self.danger(s, t));
-                    at_most(rows, format!("o[{t}] <= min(rho, d_coll)"), g_n, theta);
+                    at_most(
+                        rows,
+                        format!("o[{t}] <= min(rho, d_coll)"),
+                        g_n,
+                        theta + sg.clone(),
+                    );
                 } else {
-                    at_most(rows, format!("o[{t}] <= rho"), g_n, s.rho.clone());
+                    at_most(
+                        rows,
+                        format!("o[{t}] <= rho"),
+                        g_n,
+                        s.rho.clone() + sg.clone(),
+                    );
                     let n = t - self.params.L;
                     let mut coef = vec![Exact::ZERO; g_n.coef.len()];
                     coef[1 + (n - 1) - m] = Exact::ONE;
@@ -622,10 +660,15 @@ impl Decomposition {
                         coef,
                         constant: Exact::ZERO,
                     };
-                    above(rows, format!("w[{}] > V_a", n - 1), &e, s.V_a.clone());
+                    above(
+                        rows,
+                        format!("w[{}] > V_a", n - 1),
+                        &e,
+                        s.V_a.clone() - s.sigma_w.clone(),
+                    );
                 }
             }
-            Ending::PassThrough => at_most(rows, format!("o[{t}] <= 0"), g_n, zero()),
+            Ending::PassThrough => at_most(rows, format!("o[{t}] <= 0"), g_n, sg.clone()),
             Ending::Bystander => {}
         }
     }
@@ -688,17 +731,16 @@ impl Decomposition {
     fn fastest_step(&self, s: &Params<ParamAffine>, j: usize, gap: ParamAffine) -> ParamAffine {
         let dt = &self.params.dt;
         let closing = ParamAffine::constant(self.position(j + 1) - self.position(j));
+        // "Inside" is where no error can show the obstacle outside: a true gap ≤ ρ − σ_g;
+        // there its speed must be seen ≤ V_a for some error: ≤ V_a + σ_w.
+        let edge = s.rho.clone() - s.sigma_g.clone();
         let at_w = gap.clone() - closing.clone() - s.W.scaled(dt);
-        let w = if at_w > s.rho {
+        let w = if at_w > edge {
             s.W.clone()
         } else {
-            let to_edge =
-                (gap.clone() - closing.clone() - s.rho.clone()).scaled(&(Exact::ONE / dt));
-            let w = if to_edge > s.V_a {
-                to_edge
-            } else {
-                s.V_a.clone()
-            };
+            let to_edge = (gap.clone() - closing.clone() - edge).scaled(&(Exact::ONE / dt));
+            let slow = slowest_fast(s);
+            let w = if to_edge > slow { to_edge } else { slow };
             if w > s.W { s.W.clone() } else { w }
         };
         gap - closing - w.scaled(dt)
@@ -716,6 +758,13 @@ impl Decomposition {
         let j = ((hi - u.clone()) / step).floor();
         usize::try_from(j).unwrap_or(0)
     }
+}
+
+/// The fastest speed an obstacle inside the area may have without the wrong-assumption
+/// guard firing for every error: min(W, V_a + σ_w).
+fn slowest_fast(s: &Params<ParamAffine>) -> ParamAffine {
+    let seen = s.V_a.clone() + s.sigma_w.clone();
+    if seen > s.W { s.W.clone() } else { seen }
 }
 
 /// min(ρ, d), with d = None standing for ∞ (the `area` rule).

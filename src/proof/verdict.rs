@@ -52,3 +52,14 @@ pub struct Witness {
     /// One row at every period start plus the instant the robot came to rest.
     pub steps: Vec<TraceRow>,
 }
+
+impl Witness {
+    /// The period from which the environment lets the robot react (its schedule's brake
+    /// step; None for a pass-through, which never lets it): with noisy sensing the replay
+    /// picks each observation's error by it ([`crate::core::simulate::run_reacting_at`]).
+    pub fn react_at(&self) -> Option<usize> {
+        self.piece
+            .has_objective()
+            .then(|| self.piece.brake + self.shift)
+    }
+}

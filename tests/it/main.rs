@@ -18,6 +18,7 @@ mod fixtures;
 mod monitor;
 mod monitor_cli;
 mod monitor_scene;
+mod noise;
 mod radius;
 mod scene_analysis;
 mod scene_cli;

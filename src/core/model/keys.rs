@@ -168,10 +168,17 @@ pub(crate) const KEYS: &[KeySpec] = &[
         Bound::NonNegative,
     ),
     spec("environment.initial_gap", Kind::Position, "m", Bound::Free),
+    spec("sensing.gap_noise", Kind::Number, "m", Bound::NonNegative),
+    spec(
+        "sensing.speed_noise",
+        Kind::Number,
+        "m/s",
+        Bound::NonNegative,
+    ),
 ];
 
 /// The tables of a problem file.
-pub(crate) const TABLES: &[&str] = &["robot", "controller", "environment"];
+pub(crate) const TABLES: &[&str] = &["robot", "controller", "environment", "sensing"];
 
 pub(crate) fn key_spec(key: &str) -> Option<&'static KeySpec> {
     KEYS.iter().find(|s| s.key == key)

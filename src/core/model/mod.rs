@@ -46,6 +46,41 @@ pub struct Problem {
     pub controller: Controller,
     /// What the environment really does.
     pub environment: Environment,
+    /// How far observations may be off (optional table; None: exact observations).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensing: Option<Sensing>,
+}
+
+/// How far the robot's observations may be off from the truth (DESIGN.md §1.2). The errors
+/// are the environment's choice, per observation, adversarially.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensing {
+    /// σ_g: every observed gap is within ±σ_g of the true one (m), ≥ 0; None: 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap_noise: Option<f64>,
+    /// σ_w: every observed obstacle speed is within ±σ_w of the true one (m/s), ≥ 0;
+    /// None: 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_noise: Option<f64>,
+}
+
+impl Problem {
+    /// σ_g: the gap noise bound (0 unless the problem says otherwise).
+    pub fn gap_noise(&self) -> f64 {
+        self.sensing
+            .as_ref()
+            .and_then(|s| s.gap_noise)
+            .unwrap_or(0.0)
+    }
+
+    /// σ_w: the speed noise bound (0 unless the problem says otherwise).
+    pub fn speed_noise(&self) -> f64 {
+        self.sensing
+            .as_ref()
+            .and_then(|s| s.speed_noise)
+            .unwrap_or(0.0)
+    }
 }
 
 /// The robot's dynamics and timing.
@@ -166,6 +201,7 @@ mod tests {
                 obstacle_speed: 0.15,
                 initial_gap: Position::At(10.0),
             },
+            sensing: None,
         }
     }
 
@@ -175,6 +211,10 @@ mod tests {
         let mut full = seed();
         full.robot.braking_min = Some(0.4);
         full.robot.initial_speed = Some(0.1);
+        full.sensing = Some(Sensing {
+            gap_noise: Some(0.01),
+            speed_noise: Some(0.02),
+        });
         let table: toml::Table = toml::from_str(&full.to_toml_string()).unwrap();
         let mut keys = Vec::new();
         for (k, v) in &table {

@@ -41,6 +41,10 @@ pub struct Params<N> {
     pub g0: N,
     /// the farthest initial gap (= g0 unless the problem gives a range)
     pub g0_max: N,
+    /// σ_g: how far an observed gap may be off the true one
+    pub sigma_g: N,
+    /// σ_w: how far an observed obstacle speed may be off the true one
+    pub sigma_w: N,
     /// Products every control period uses, computed once from the numbers above.
     pub k: StepConstants<N>,
 }
@@ -110,6 +114,8 @@ impl Problem {
             W: N::decimal(e.obstacle_speed),
             g0: N::decimal(e.initial_gap.min()),
             g0_max: N::decimal(e.initial_gap.max()),
+            sigma_g: N::decimal(self.gap_noise()),
+            sigma_w: N::decimal(self.speed_noise()),
         }
     }
 }
@@ -147,14 +153,21 @@ impl<N: Scalar> Params<N> {
             W: f(&self.W),
             g0: f(&self.g0),
             g0_max: f(&self.g0_max),
+            sigma_g: f(&self.sigma_g),
+            sigma_w: f(&self.sigma_w),
             k: self.k.map(&f),
         }
     }
 
     /// Whether the wrong-assumption guard can ever fire: it is on and the environment can
-    /// move faster than the controller assumes (W > V_a).
+    /// be *seen* faster than the controller assumes (W + σ_w > V_a).
     pub fn wrong_assumption_active(&self) -> bool {
-        self.wrong_assumption_brake && self.W > self.V_a
+        self.wrong_assumption_brake && self.W.clone() + self.sigma_w.clone() > self.V_a
+    }
+
+    /// Whether observations may be off the truth (σ_g > 0 or σ_w > 0).
+    pub fn noisy(&self) -> bool {
+        self.sigma_g > N::zero() || self.sigma_w > N::zero()
     }
 }
 

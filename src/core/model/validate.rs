@@ -18,6 +18,13 @@ impl Problem {
         if env.initial_gap.is_range() {
             numbers.push(("environment.initial_gap", env.initial_gap.max()));
         }
+        if let Some(s) = &self.sensing {
+            let optional = [
+                ("sensing.gap_noise", s.gap_noise),
+                ("sensing.speed_noise", s.speed_noise),
+            ];
+            numbers.extend(optional.iter().filter_map(|&(k, x)| Some((k, x?))));
+        }
         numbers
     }
 
@@ -68,6 +75,16 @@ impl Problem {
                     show_number(lo),
                     show_number(hi)
                 ),
+            });
+        }
+        if gap.is_range() && (self.gap_noise() > 0.0 || self.speed_noise() > 0.0) {
+            // A range is answered by the scene engines, which observe exactly so far.
+            return Some(Violation {
+                key: "environment.initial_gap",
+                value: show_range(&gap),
+                reason: "a range of initial gaps cannot be combined with sensing noise yet; \
+                         give one initial gap"
+                    .into(),
             });
         }
         (gap.min() <= r.clearance).then(|| Violation {

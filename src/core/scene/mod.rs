@@ -177,6 +177,7 @@ impl Scene {
                 obstacle_speed: o.max_speed,
                 initial_gap: x,
             },
+            sensing: None,
         })
     }
 
@@ -193,6 +194,7 @@ impl Scene {
                 obstacle_speed: o.max_speed,
                 initial_gap: Position::At(o.position.min()),
             },
+            sensing: None,
         };
         if o.is_static {
             problem.controller.assumed_obstacle_speed = 0.0;
@@ -211,6 +213,7 @@ impl Scene {
                 obstacle_speed: 0.0,
                 initial_gap: Position::At(0.0),
             },
+            sensing: None,
         }
         .params()
     }

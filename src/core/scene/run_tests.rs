@@ -36,6 +36,7 @@ fn problem(latency: u32, rule: DangerRule, wrong: bool, w: f64, g0: f64) -> Prob
             obstacle_speed: w,
             initial_gap: crate::core::model::Position::At(g0),
         },
+        sensing: None,
     }
 }
 

@@ -90,6 +90,15 @@ fn unknown_keys(source: &Source<'_>, root: &DeTable<'_>) -> Result<(), ProblemEr
         if name == "name" || name == "obstacle" {
             continue;
         }
+        if name == "sensing" {
+            return Err(unknown(
+                name.to_string(),
+                k.span(),
+                "sensing noise is analysed for single-obstacle problems only so far; a scene \
+                 observes exactly"
+                    .into(),
+            ));
+        }
         if !SCENE_TABLES.contains(&name) {
             return Err(unknown(
                 name.to_string(),

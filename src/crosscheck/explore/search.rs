@@ -121,6 +121,14 @@ pub fn explore(
 
 /// Explores a model breadth first (see the module docs).
 pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Exploration, ExploreError> {
+    if model.params().noisy() {
+        // Its state key classifies future observations as they are, without errors.
+        return Err(ExploreError::Options(
+            "the explorer does not model sensing noise yet (sensing.gap_noise, \
+             sensing.speed_noise); certify analyses it exactly"
+                .into(),
+        ));
+    }
     if options.max_states == 0 {
         return Err(ExploreError::Options(
             "--max-states must be at least 1".into(),

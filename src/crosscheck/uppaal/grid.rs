@@ -65,6 +65,13 @@ pub(super) fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
 /// The drive profile's speeds: every speed the robot can brake from (0, then one per
 /// control period until v_max).
 pub(super) fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
+    if p.noisy() {
+        return Err(UppaalError::Grid(
+            "the UPPAAL export models exact observations; sensing.gap_noise and \
+             sensing.speed_noise are not exported yet"
+                .into(),
+        ));
+    }
     if p.v0 != Exact::ZERO || p.b_min != p.b {
         return Err(UppaalError::Grid(
             "the UPPAAL export models a robot that starts at rest and brakes at exactly \

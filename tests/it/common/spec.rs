@@ -95,6 +95,7 @@ impl Spec {
                 obstacle_speed: self.w,
                 initial_gap: Position::At(self.g0),
             },
+            sensing: None,
         }
     }
 
