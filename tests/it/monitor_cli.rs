@@ -714,3 +714,40 @@ fn many_interleaved_obstacles_by_textual_id() {
     let ids: BTreeSet<String> = events.into_iter().filter_map(|e| e.obstacle_id).collect();
     assert_eq!(ids.len(), 1);
 }
+
+/// Robot-only rows (empty obstacle cells in CSV, no obstacle keys in JSON Lines) are
+/// instants: a trace whose obstacle is out of view for a frame, far outside ρ, holds (it used
+/// to be `malformed_sample`); the `--json` summary gives each check's smallest slack and
+/// where: `control_period`'s is 0 s (every step exactly dt), `first_detection_gap`'s the
+/// first gap less ρ.
+#[test]
+fn robot_only_rows_and_margins_in_json() {
+    let dir = tmp();
+    certify_seed(dir.path(), "0.2");
+    let csv = format!(
+        "{HEADER}0,0,0.2,drive,A,10,0\n0.1,0.02,0.2,drive,,,\n0.2,0.04,0.2,drive,A,9.98,0.1\n"
+    );
+    let jsonl = "{\"t\":0,\"robot_x\":0,\"robot_v\":0.2,\"robot_mode\":\"drive\",\"obstacle_id\":\"A\",\"obstacle_x\":10,\"obstacle_v\":0}\n\
+                 {\"t\":0.1,\"robot_x\":0.02,\"robot_v\":0.2,\"robot_mode\":\"drive\",\"obstacle_id\":null}\n\
+                 {\"t\":0.2,\"robot_x\":0.04,\"robot_v\":0.2,\"robot_mode\":\"drive\",\"obstacle_id\":\"A\",\"obstacle_x\":9.98,\"obstacle_v\":0.1}\n";
+    for text in [csv.as_str(), jsonl] {
+        let r = monitor(dir.path(), &["-", "--json"], Some(text));
+        assert_eq!(r.code, 0, "{}{}", r.stdout, r.stderr);
+        let s: SummaryLine = serde_json::from_str(r.stdout.trim()).unwrap();
+        let s = s.summary;
+        assert_eq!((s.verdict.as_str(), s.samples, s.instants), ("held", 3, 3));
+        let premise = |name: &str| s.premises.iter().find(|p| p.premise == name).unwrap();
+        let period = premise("control_period").margin.as_ref().unwrap();
+        assert!(period.slack.abs() < 1e-12 && period.t > 0.0, "{period:?}");
+        let first = premise("first_detection_gap").margin.as_ref().unwrap();
+        assert_eq!((first.slack, first.t, first.sample), (10.0 - 1.4, 0.0, 0));
+        let collision = s.behaviour.iter().find(|c| c.check == "collision").unwrap();
+        assert_eq!(
+            (collision.status.as_str(), collision.bound),
+            ("held", Some(0.0))
+        );
+        assert_eq!((collision.unit.as_str(), collision.violations), ("m", 0));
+        assert!(collision.checks == 2 && collision.reason.is_none());
+        assert!(collision.margin.is_some());
+    }
+}

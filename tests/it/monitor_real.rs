@@ -225,8 +225,7 @@ fn a_controller_that_ignores_danger_is_flagged_at_the_instant_it_should_have_bra
         .unwrap();
     let mut trace = samples(&rows);
     let v = trace[braked - 1].robot_v;
-    for k in braked..trace.len() {
-        let s = &mut trace[k];
+    for (k, s) in trace.iter_mut().enumerate().skip(braked) {
         s.robot_mode = Some(Mode::Drive);
         s.robot_v = v;
         s.robot_x = trace_x(&rows, braked, k, v);
