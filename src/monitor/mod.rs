@@ -375,6 +375,8 @@ pub struct Monitor {
     /// min(ρ, d(v)) at the current instant's robot speed: for moving obstacles, and for a
     /// scene's static ones (m).
     reaction_distance: [f64; 2],
+    /// The robot speed `reaction_distance` was computed for (NaN: none yet).
+    reaction_speed: f64,
     /// The earliest reaction owed, if any.
     reaction: Option<Reaction>,
     /// Obstacles seen inside the reaction area at the current instant, at the previous one,
@@ -486,6 +488,7 @@ impl Monitor {
         Monitor {
             bounds,
             reaction_distance: [0.0; 2],
+            reaction_speed: f64::NAN,
             reaction: None,
             area_now: 0,
             area_previous: 0,

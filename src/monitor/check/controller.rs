@@ -63,6 +63,11 @@ impl Monitor {
     /// for moving obstacles and for a scene's static ones.
     #[inline(always)]
     pub(in crate::monitor) fn set_reaction_distance(&mut self, v: f64) {
+        // A robot cruising or at rest keeps its speed: compute once per speed.
+        if v == self.reaction_speed {
+            return;
+        }
+        self.reaction_speed = v;
         let within = |p: &crate::core::model::Params<f64>| {
             danger_distance(p, &v).map_or(p.rho, |d| d.min(p.rho))
         };
