@@ -33,24 +33,31 @@ const OBSTACLES: u32 = 4;
 /// obstacle per control period of 0.1 s.
 fn generate(instants: usize, with_speed: bool) -> Vec<Sample> {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let mut x: Vec<f64> = (0..OBSTACLES).map(|i| 1e5 + 10.0 * f64::from(i)).collect();
+    // Positions in whole 0.1 mm, so that they stay exact over millions of periods.
+    let mut x: Vec<i64> = (0..OBSTACLES)
+        .map(|i| (1e9 + 1e5 * f64::from(i)) as i64)
+        .collect();
     let mut out = Vec::with_capacity(instants * OBSTACLES as usize);
     for k in 0..instants {
         let t = k as f64 * 0.1;
         for (i, xi) in x.iter_mut().enumerate() {
-            let v = if k == 0 {
-                0.0
+            // Whole mm/s, so that each period's displacement is a whole 0.1 mm and the trace
+            // written with 4 decimals states speeds its positions agree with (the monitor
+            // compares them: `observation_inconsistent`).
+            let mm = if k == 0 {
+                0
             } else {
-                0.2 * (1.0 - rng.random::<f64>())
+                (200.0 * (1.0 - rng.random::<f64>())).ceil() as i64
             };
-            *xi -= v * 0.1;
+            let v = mm as f64 / 1000.0;
+            *xi -= mm;
             out.push(Sample {
                 t,
                 robot_x: 0.2 * t,
                 robot_v: 0.2,
                 robot_mode: Some(Mode::Drive),
                 obstacle_id: i as u32,
-                obstacle_x: *xi,
+                obstacle_x: *xi as f64 / 1e4,
                 obstacle_v: with_speed.then_some(v),
                 obstacle_t: None,
             });

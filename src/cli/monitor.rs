@@ -36,8 +36,8 @@ use serde::Serialize;
 
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
 use safereach::monitor::{
-    DEFAULT_MAX_OBSTACLES, Detail, Event, Monitor, PremiseSummary, SceneSummary, Status, Summary,
-    Verdict,
+    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
+    SceneSummary, Status, Summary, Verdict,
 };
 
 use super::exit::Exit;
@@ -166,6 +166,10 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
                 Decoded::Sample { sample, t_text } => {
                     (Some(t_text), monitor.observe_decoded(&decoder, &sample))
                 }
+                Decoded::Robot { sample, t_text } => (
+                    Some(t_text),
+                    monitor.observe_robot(&sample, decoder.lanes()),
+                ),
                 Decoded::Malformed { t, t_text, detail } => (t_text, monitor.malformed(t, detail)),
             },
         };
@@ -181,11 +185,27 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
             )
             .context("writing the output")?;
     }
+    finish(&monitor, &decoder, &printer, &mut out, &origin)
+}
+
+/// Prints the summary of what was read; the exit status: the verdict's, or 2 when no sample
+/// could be checked (an empty trace, or one of only unreadable lines).
+fn finish(
+    monitor: &Monitor,
+    decoder: &Decoder,
+    printer: &Printer,
+    out: &mut impl Write,
+    origin: &str,
+) -> Result<Exit> {
     let summary = monitor.summary();
     printer
-        .summary(&mut out, &decoder, &summary)
+        .summary(out, decoder, &summary, monitor.checked_anything())
         .and_then(|()| out.flush())
         .context("writing the output")?;
+    if !monitor.checked_anything() {
+        eprintln!("error: {origin}: nothing was checked: the trace has no readable sample");
+        return Ok(Exit::Error);
+    }
     Ok(summary.verdict.into())
 }
 
@@ -359,6 +379,7 @@ struct SummaryJson<'a> {
     violations: u64,
     first_violation: Option<EventJson<'a>>,
     premises: &'a [PremiseSummary],
+    behaviour: &'a [CheckSummary],
     fail_safe: serde_json::Map<String, serde_json::Value>,
     /// Only under a scene certificate (a single obstacle's summary is as it was).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -422,10 +443,23 @@ impl Printer {
         Ok(())
     }
 
-    fn summary(&self, out: &mut impl Write, decoder: &Decoder, s: &Summary) -> io::Result<()> {
+    fn summary(
+        &self,
+        out: &mut impl Write,
+        decoder: &Decoder,
+        s: &Summary,
+        checked: bool,
+    ) -> io::Result<()> {
         let first = s.first_violation.as_ref().zip(self.first.as_ref());
         if self.json {
-            return summary_json(out, s, first);
+            return summary_json(out, s, first, checked);
+        }
+        if !checked {
+            return writeln!(
+                out,
+                "summary: NOTHING CHECKED: no readable sample in {}",
+                plural(s.samples, "line")
+            );
         }
         let counts = format!(
             "{} ({}, {})",
@@ -433,10 +467,18 @@ impl Printer {
             plural(s.instants, "instant"),
             plural(s.obstacles, "obstacle")
         );
+        let collisions = s
+            .behaviour
+            .iter()
+            .find(|c| c.check == Check::Collision)
+            .map_or(0, |c| c.violations);
         match s.verdict {
-            Verdict::Held if s.samples == 0 => {
-                writeln!(out, "summary: held: no samples, nothing was checked")?
-            }
+            Verdict::Violated if collisions > 0 => writeln!(
+                out,
+                "summary: COLLISION: {} with the robot moving, {} in {counts} -> brake (enter the passive safe state)",
+                plural(collisions, "collision"),
+                plural(s.violations, "violation")
+            )?,
             Verdict::Held => writeln!(
                 out,
                 "summary: held: every monitored premise held over {counts}"
@@ -470,11 +512,14 @@ impl Printer {
                 .unwrap_or_default();
             writeln!(
                 out,
-                "  {:<21} {:<14} {count:<20} {bound}{reason}",
+                "  {:<24} {:<14} {count:<20} {bound}{}{reason}",
                 p.premise.as_str(),
-                p.status.as_str()
+                p.status.as_str(),
+                margin_text(p.margin, &p.unit)
             )?;
         }
+        writeln!(out, "model checks:")?;
+        checks_text(out, &s.behaviour)?;
         if let Some(scene) = &s.scene {
             scene_summary(out, scene)?;
         }
@@ -494,9 +539,15 @@ fn summary_json(
     out: &mut impl Write,
     s: &Summary,
     first: Option<(&Event, &First)>,
+    checked: bool,
 ) -> io::Result<()> {
     let summary = SummaryJson {
-        verdict: s.verdict.as_str(),
+        verdict: if checked {
+            s.verdict.as_str()
+        } else {
+            "nothing_checked"
+        },
+        behaviour: &s.behaviour,
         samples: s.samples,
         instants: s.instants,
         obstacles: s.obstacles,
@@ -523,27 +574,7 @@ fn plural(n: u64, word: &str) -> String {
 /// many tracked objects matched none.
 fn scene_summary(out: &mut impl Write, scene: &SceneSummary) -> io::Result<()> {
     writeln!(out, "scene checks:")?;
-    for c in &scene.checks {
-        let count = match c.status {
-            Status::Violated => format!("{} of {}", c.violations, plural(c.checks, "check")),
-            _ => plural(c.checks, "check"),
-        };
-        let bound = match c.bound {
-            Some(b) => format!("bound {b} {}", c.unit),
-            None => "bound each obstacle's lane".to_string(),
-        };
-        let reason = c
-            .reason
-            .as_deref()
-            .map(|r| format!(": {r}"))
-            .unwrap_or_default();
-        writeln!(
-            out,
-            "  {:<21} {:<14} {count:<20} {bound}{reason}",
-            c.check.as_str(),
-            c.status.as_str()
-        )?;
-    }
+    checks_text(out, &scene.checks)?;
     writeln!(
         out,
         "scene obstacles (matched to trace obstacle ids by name):"
@@ -566,6 +597,45 @@ fn scene_summary(out: &mut impl Write, scene: &SceneSummary) -> io::Result<()> {
         "unmatched objects: {} (checked against the largest moving bound, in any lane)",
         scene.unmatched
     )
+}
+
+/// `, smallest slack S unit at t=T`, or nothing when the check never had a value.
+fn margin_text(margin: Option<Margin>, unit: &str) -> String {
+    match margin {
+        Some(m) => {
+            let sep = if unit.is_empty() { "" } else { " " };
+            format!(", smallest slack {}{sep}{unit} at t={}", m.slack, m.t)
+        }
+        None => String::new(),
+    }
+}
+
+/// Behaviour or scene checks, one line each, as the premises are printed.
+fn checks_text(out: &mut impl Write, checks: &[CheckSummary]) -> io::Result<()> {
+    for c in checks {
+        let count = match c.status {
+            Status::Violated => format!("{} of {}", c.violations, plural(c.checks, "check")),
+            _ => plural(c.checks, "check"),
+        };
+        let bound = match (c.bound, c.check) {
+            (Some(b), _) => format!("bound {b} {}", c.unit).trim_end().to_string(),
+            (None, Check::ObstacleLane) => "bound each obstacle's lane".to_string(),
+            (None, _) => "bound per sample".to_string(),
+        };
+        let reason = c
+            .reason
+            .as_deref()
+            .map(|r| format!(": {r}"))
+            .unwrap_or_default();
+        writeln!(
+            out,
+            "  {:<24} {:<14} {count:<20} {bound}{}{reason}",
+            c.check.as_str(),
+            c.status.as_str(),
+            margin_text(c.margin, &c.unit)
+        )?;
+    }
+    Ok(())
 }
 
 /// `premise obstacle=ID observed X unit > bound Y unit: detail -> brake`.

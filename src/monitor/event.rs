@@ -79,6 +79,16 @@ pub enum Detail {
     Json(&'static str),
     /// A JSON object with the same key twice.
     DuplicateKey(Field),
+    /// `controller_reaction`: the observation showed collision danger.
+    Danger,
+    /// `controller_reaction`: the observation showed an obstacle faster than V_a.
+    WrongAssumption,
+    /// `robot_envelope`: the robot's speed (m/s) above v_max.
+    AboveTopSpeed,
+    /// `robot_envelope`: the robot's acceleration (m/s²) above a.
+    AboveAcceleration,
+    /// `observation_dropout`: the obstacle was last seen inside the reaction area.
+    Dropout,
 }
 
 impl fmt::Display for Detail {
@@ -119,6 +129,17 @@ impl fmt::Display for Detail {
             Detail::Csv(what) => write!(f, "not a CSV row: {what}"),
             Detail::Json(what) => write!(f, "not a JSON sample: {what}"),
             Detail::DuplicateKey(field) => write!(f, "key {field} given twice"),
+            Detail::Danger => f.write_str(
+                "the observed gap (m) was within the danger distance min(rho, d(v)) and the robot was not braking",
+            ),
+            Detail::WrongAssumption => f.write_str(
+                "an obstacle in the reaction area (gap, bound rho, m) was seen faster than the assumed V_a and the robot was not braking",
+            ),
+            Detail::AboveTopSpeed => f.write_str("robot speed (m/s) above v_max"),
+            Detail::AboveAcceleration => f.write_str("robot acceleration (m/s^2) above a"),
+            Detail::Dropout => f.write_str(
+                "last observed gap (m) inside the reaction radius rho, and the next instant came without this obstacle",
+            ),
         }
     }
 }
@@ -224,7 +245,7 @@ impl Violation {
         Violation {
             check,
             t: Some(s.t),
-            obstacle_id: Some(s.obstacle_id),
+            obstacle_id: (s.obstacle_id != super::ROBOT_ONLY).then_some(s.obstacle_id),
             observed: None,
             bound: None,
             detail: None,

@@ -137,8 +137,10 @@
 //! (`event.rs`); the end-of-trace [`Summary`] is in `summary.rs`; text traces are read by
 //! [`trace`].
 
+use crate::core::model::{Params, Problem};
 use crate::core::semantics::Mode;
 use crate::proof::certificate::{self, Certificate};
+use crate::proof::premise::Premise;
 use crate::proof::verdict;
 
 mod check;
@@ -150,15 +152,15 @@ mod summary;
 pub mod trace;
 
 use check::Carried;
-pub use check::{Bounds, Check, FailSafe, SceneCheck};
+pub use check::{BehaviourCheck, Bounds, Check, FailSafe, SceneCheck};
 use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
 pub use lanes::Lanes;
 use scene::SceneAssumptions;
 pub use summary::{
-    CertifiedObstacleSummary, FailSafeSummary, PremiseSummary, SceneCheckSummary, SceneSummary,
-    Status, Summary,
+    CertifiedObstacleSummary, CheckSummary, FailSafeSummary, Margin, PremiseSummary,
+    SceneCheckSummary, SceneSummary, Status, Summary,
 };
 
 /// An obstacle's number: an index into the monitor's table (keep them small and dense).
@@ -170,8 +172,14 @@ pub const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// The table size [`Monitor::new`] allows: obstacle ids must be below this.
 pub const DEFAULT_MAX_OBSTACLES: u32 = 1 << 16;
 
-/// Most events one sample can raise (seven can coincide; see [`Monitor::observe`]).
-pub const MAX_EVENTS_PER_SAMPLE: usize = 8;
+/// Most events one sample's [`Outcome`] lists. A dozen checks can fail on one sample, and a
+/// new instant can find several obstacles missing; events beyond this are still counted
+/// (and the first violation kept), only not listed.
+pub const MAX_EVENTS_PER_SAMPLE: usize = 16;
+
+/// The obstacle id of a robot-only sample inside the monitor (never an index into its
+/// table; events of such a sample have no obstacle).
+pub(crate) const ROBOT_ONLY: ObstacleId = ObstacleId::MAX;
 
 /// One line of a trace: the robot and one obstacle at an instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -194,6 +202,36 @@ pub struct Sample {
     /// Time at which `obstacle_x` was observed (s); when present, latency is checked and
     /// speeds are estimated over observation times.
     pub obstacle_t: Option<f64>,
+}
+
+/// A trace line with the robot only: an instant at which no obstacle was observed (its
+/// obstacle cells empty).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobotSample {
+    /// Time (s).
+    pub t: f64,
+    /// Robot position along its lane (m).
+    pub robot_x: f64,
+    /// Robot speed (m/s).
+    pub robot_v: f64,
+    /// The robot's mode from this instant on, if the trace records it.
+    pub robot_mode: Option<Mode>,
+}
+
+impl RobotSample {
+    /// As a [`Sample`] whose obstacle is [`ROBOT_ONLY`] (for the checks of the robot).
+    fn as_sample(&self) -> Sample {
+        Sample {
+            t: self.t,
+            robot_x: self.robot_x,
+            robot_v: self.robot_v,
+            robot_mode: self.robot_mode,
+            obstacle_id: ROBOT_ONLY,
+            obstacle_x: 0.0,
+            obstacle_v: None,
+            obstacle_t: None,
+        }
+    }
 }
 
 /// Why a certificate cannot be monitored against.
@@ -261,6 +299,11 @@ pub(crate) struct Track {
     /// Whether it was ahead of the robot (gap > 0) when its lane last became one the robot
     /// occupies (`None`: the robot is not in its lane); the side `collision` measures from.
     ahead: Option<bool>,
+    /// Its last observation was inside the reaction area, 0 < gap ≤ ρ (`observation_dropout`
+    /// if the next instant comes without it).
+    in_area: bool,
+    /// Gap at its last observation (m).
+    gap: f64,
 }
 
 impl Track {
@@ -280,10 +323,69 @@ pub(crate) struct RobotAt {
     mode: Option<Mode>,
 }
 
+/// What the certified controller and robot are: the numbers the controller and safety checks
+/// use, read from the certificate's problem (or scene).
+#[derive(Clone, Debug)]
+pub(crate) struct Rule {
+    /// The controller for moving obstacles (v_max, a, b, L, ρ, V_a, the danger rule, …).
+    pub(crate) moving: Params<f64>,
+    /// The same with V_a = 0: the danger rule for a scene's static obstacles.
+    pub(crate) fixed: Params<f64>,
+    /// `collision`: a separation at most this while moving (m).
+    pub(crate) clearance: f64,
+}
+
+impl Rule {
+    /// The rule of a single-obstacle problem.
+    fn of_problem(problem: &Problem) -> Rule {
+        let moving: Params<f64> = problem.params();
+        let mut fixed = moving.clone();
+        fixed.V_a = 0.0;
+        Rule {
+            clearance: problem.robot.clearance,
+            moving,
+            fixed,
+        }
+    }
+}
+
+/// A reaction the controller owes: an observation showed danger (or a wrong assumption), and
+/// the robot must be braking by the instant the controller has that observation.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Reaction {
+    /// The time by which the controller has the observation (s).
+    due: f64,
+    /// Whose observation it was.
+    obstacle: ObstacleId,
+    /// The observed gap (m) and the distance within which it is danger (m).
+    gap: f64,
+    bound: f64,
+    /// The obstacle's lane, when known: a robot that left that lane has reacted.
+    lane: Option<i32>,
+    /// It was a wrong assumption (an obstacle faster than V_a), not danger.
+    wrong: bool,
+}
+
 /// The runtime monitor for one certificate (see the module docs).
 #[derive(Clone, Debug)]
 pub struct Monitor {
     bounds: Bounds,
+    /// The certified controller and robot.
+    rule: Rule,
+    /// min(ρ, d(v)) at the current instant's robot speed: for moving obstacles, and for a
+    /// scene's static ones (m).
+    reaction_distance: [f64; 2],
+    /// The robot speed `reaction_distance` was computed for (NaN: none yet).
+    reaction_speed: f64,
+    /// The earliest reaction owed, if any.
+    reaction: Option<Reaction>,
+    /// Obstacles seen inside the reaction area at the current instant, at the previous one,
+    /// and how many of the previous one's have been seen again at the current one.
+    area_now: u32,
+    area_previous: u32,
+    area_previous_seen: u32,
+    /// The smallest slack of each check so far, by [`Check::index`].
+    margins: [Margin; Check::COUNT],
     /// What a scene certificate assumed of each of its obstacles (`None`: a single-obstacle
     /// certificate, monitored exactly as before scenes existed).
     scene: Option<SceneAssumptions>,
@@ -303,6 +405,8 @@ pub struct Monitor {
     checks: [u64; Check::COUNT],
     /// Violations of each check, by [`Check::index`].
     violations: [u64; Check::COUNT],
+    /// Accepted samples (those that reached the checks), robot-only ones included.
+    accepted: u64,
     first: Option<Event>,
     /// What the samples carried so far.
     carried: Carried,
@@ -346,18 +450,51 @@ impl Monitor {
         let report = certificate::check(cert)?;
         require_certified(report.verdict)?;
         let bounds = Bounds::from_premises(&cert.premises)?;
-        Ok(Self::with_bounds(bounds, None, max_obstacles, reserve))
+        let rule = Rule::of_problem(&cert.problem);
+        Ok(Self::with_bounds(
+            bounds,
+            rule,
+            None,
+            max_obstacles,
+            reserve,
+        ))
+    }
+
+    /// A monitor for `problem` as if it had been certified under `premises`, without a
+    /// certificate: **no proof is checked**, so the caller vouches that a proof exists (it is
+    /// for experiments and tests, e.g. premises with observation noise before the analyser
+    /// certifies noisy problems). The bounds come from `premises` as from a certificate's;
+    /// the controller, v_max, a and the clearance from `problem`.
+    pub fn for_premises(problem: &Problem, premises: &[Premise]) -> Result<Monitor, MonitorError> {
+        let bounds = Bounds::from_premises(premises)?;
+        let rule = Rule::of_problem(problem);
+        Ok(Self::with_bounds(
+            bounds,
+            rule,
+            None,
+            DEFAULT_MAX_OBSTACLES,
+            0,
+        ))
     }
 
     /// A monitor for checked bounds (and a scene's assumptions), before any sample.
     fn with_bounds(
         bounds: Bounds,
+        rule: Rule,
         scene: Option<SceneAssumptions>,
         max_obstacles: u32,
         reserve: usize,
     ) -> Monitor {
         Monitor {
             bounds,
+            reaction_distance: [0.0; 2],
+            reaction_speed: f64::NAN,
+            reaction: None,
+            area_now: 0,
+            area_previous: 0,
+            area_previous_seen: 0,
+            margins: [Margin::NONE; Check::COUNT],
+            rule,
             scene,
             max_obstacles,
             obstacles: vec![Track::default(); reserve],
@@ -368,6 +505,7 @@ impl Monitor {
             distinct_obstacles: 0,
             checks: [0; Check::COUNT],
             violations: [0; Check::COUNT],
+            accepted: 0,
             first: None,
             carried: Carried::default(),
             events: [NO_EVENT; MAX_EVENTS_PER_SAMPLE],
@@ -427,6 +565,28 @@ impl Monitor {
         self.checks[check.index()] += 1;
     }
 
+    /// Counts an evaluation of `check` whose slack (how far the observed value is from
+    /// breaking the bound, in the check's unit) was `slack`, at the current sample of time
+    /// `t`; keeps the smallest.
+    #[inline(always)]
+    fn count_with_slack(&mut self, check: Check, slack: f64, t: f64) {
+        let i = check.index();
+        self.checks[i] += 1;
+        if slack < self.margins[i].slack {
+            self.margins[i] = Margin {
+                slack,
+                t,
+                sample: self.samples - 1,
+            };
+        }
+    }
+
+    /// Whether any sample reached the checks (an empty trace, or one of only unreadable
+    /// lines, checked nothing).
+    pub fn checked_anything(&self) -> bool {
+        self.accepted > 0
+    }
+
     /// Records a violation of the current sample.
     #[cold]
     #[inline(never)]
@@ -439,7 +599,7 @@ impl Monitor {
         if self.first.is_none() {
             self.first = Some(event);
         }
-        // At most seven checks can fail on one sample, so this never drops an event.
+        // Beyond the buffer an event is counted, not listed (see MAX_EVENTS_PER_SAMPLE).
         if let Some(slot) = self.events.get_mut(self.n_events) {
             *slot = event;
             self.n_events += 1;
@@ -505,14 +665,51 @@ impl Monitor {
         };
         match self.robot {
             Some(r) if s.t <= r.t => {
-                if !self.join_instant::<SCENE>(s, lanes, r, &track) {
+                if !self.join_instant::<SCENE>(s, lanes, r, Some(&track)) {
                     return self.outcome();
                 }
             }
             previous => self.start_instant::<SCENE>(previous, s, lanes),
         }
+        self.accepted += 1;
         self.carried.mode |= s.robot_mode.is_some();
         self.check_obstacle::<SCENE>(s, lanes, &track);
+        self.outcome()
+    }
+
+    /// Checks a robot-only sample: an instant at which no obstacle was observed. It counts
+    /// as an instant (for `control_period`, `braking_deceleration`, `robot_envelope`,
+    /// `controller_reaction` and `observation_dropout`); `lanes` are the robot's, as in
+    /// [`Monitor::observe_in_lanes`]. No allocation, no panic.
+    pub fn observe_robot(&mut self, r: &RobotSample, lanes: Lanes) -> Outcome<'_> {
+        if self.scene.is_some() {
+            self.observe_robot_with::<true>(r, lanes)
+        } else {
+            self.observe_robot_with::<false>(r, lanes)
+        }
+    }
+
+    fn observe_robot_with<const SCENE: bool>(
+        &mut self,
+        r: &RobotSample,
+        lanes: Lanes,
+    ) -> Outcome<'_> {
+        self.n_events = 0;
+        self.samples += 1;
+        let s = r.as_sample();
+        if !self.admit_robot(&s) {
+            return self.outcome();
+        }
+        match self.robot {
+            Some(current) if s.t <= current.t => {
+                if !self.join_instant::<SCENE>(&s, lanes, current, None) {
+                    return self.outcome();
+                }
+            }
+            previous => self.start_instant::<SCENE>(previous, &s, lanes),
+        }
+        self.accepted += 1;
+        self.carried.mode |= s.robot_mode.is_some();
         self.outcome()
     }
 
@@ -528,6 +725,8 @@ impl Monitor {
         if let Some(r) = previous {
             self.check_period(r.t, s);
             self.check_braking(&r, s);
+            self.check_acceleration(&r, s);
+            self.check_dropouts(s);
             self.instant += 1;
         }
         self.robot = Some(RobotAt {
@@ -542,42 +741,56 @@ impl Monitor {
                 ..lanes
             };
         }
+        self.check_top_speed(s);
+        self.set_reaction_distance(s.robot_v);
+        self.check_reaction_due::<SCENE>(s);
     }
 
-    /// The obstacle's checks: `first_detection_gap` at its first sighting, else
-    /// `control_period` if it missed an instant; `latency`; `obstacle_speed` (or
-    /// `static_obstacle`); under a scene certificate `obstacle_lane` and `collision`. Then its
-    /// record.
+    /// The obstacle's checks: `first_detection_gap` at its first sighting; `latency`;
+    /// `obstacle_speed` and `observation_inconsistent` (or `static_obstacle`); under a scene
+    /// certificate `obstacle_lane`; `collision`; whether it shows danger
+    /// (`controller_reaction`). Then its record.
     #[inline(always)]
     fn check_obstacle<const SCENE: bool>(&mut self, s: &Sample, lanes: Lanes, track: &Track) {
         if !track.seen {
             self.distinct_obstacles += 1;
             self.check_first_sighting(s);
-        } else if track.instant + 1 < self.instant {
-            // It missed at least one instant: its own observations are a period apart.
-            self.check_period(track.t, s);
+        } else if track.in_area && track.instant + 1 == self.instant {
+            self.area_previous_seen += 1;
         }
         if let Some(obs_t) = s.obstacle_t {
             self.carried.observation_time = true;
             self.check_latency(s, obs_t);
         }
-        let (keep_reference, ahead) = if SCENE {
+        self.carried.obstacle_speed |= s.obstacle_v.is_some();
+        let (speed, view, fixed) = if SCENE {
             let certified = self.certified(track);
-            let keep_reference = match certified {
-                Some(o) if o.is_static => self.check_static(s, track),
-                _ => self.check_obstacle_speed(s, track, certified),
+            let fixed = certified.is_some_and(|o| o.is_static);
+            let speed = if fixed {
+                self.check_static(s, track)
+            } else {
+                self.check_obstacle_speed(s, track, certified)
             };
-            (keep_reference, self.check_lanes(s, lanes, track, certified))
+            (speed, self.check_lanes(s, lanes, track, certified), fixed)
         } else {
-            (self.check_obstacle_speed(s, track, None), None)
+            let speed = self.check_obstacle_speed(s, track, None);
+            (speed, self.check_collision_ahead(s, track), false)
         };
+        let gap = s.obstacle_x - s.robot_x;
+        let in_area = gap > 0.0 && gap <= self.rule.moving.rho;
+        self.area_now += u32::from(in_area);
+        if view.relevant {
+            self.check_danger(s, gap, speed.slowest, view.lane, fixed);
+        }
+        let ahead = view.ahead;
+        let keep_reference = speed.keep_reference;
         let slot = &mut self.obstacles[s.obstacle_id as usize];
         slot.seen = true;
         slot.instant = self.instant;
         slot.t = s.t;
-        if SCENE {
-            slot.ahead = ahead;
-        }
+        slot.in_area = in_area;
+        slot.gap = gap;
+        slot.ahead = ahead;
         if !keep_reference {
             slot.x = s.obstacle_x;
             slot.has_obs_t = s.obstacle_t.is_some();

@@ -10,7 +10,7 @@
 
 use super::check::Bounds;
 use super::trace::Decoder;
-use super::{Monitor, MonitorError, ObstacleId, Outcome, Sample, Track, require_certified};
+use super::{Monitor, MonitorError, ObstacleId, Outcome, Rule, Sample, Track, require_certified};
 use crate::core::scene::Scene;
 use crate::proof::certificate_file::CertificateFile;
 use crate::proof::check::CheckReport;
@@ -38,15 +38,13 @@ pub(crate) struct SceneAssumptions {
     pub(crate) names: Vec<String>,
     /// What was assumed of each.
     pub(crate) obstacles: Vec<CertifiedObstacle>,
-    /// The clearance (m): `collision` is a separation at most this while moving.
-    pub(crate) clearance: f64,
     /// Premise violations so far by samples of each.
     pub(crate) violations: Vec<u64>,
 }
 
 impl SceneAssumptions {
     /// The assumptions of `cert`'s scene, each bound usable (finite, not negative).
-    fn of(scene: &Scene, clearance: f64) -> Result<SceneAssumptions, MonitorError> {
+    fn of(scene: &Scene) -> Result<SceneAssumptions, MonitorError> {
         let usable = |name: &'static str, bound: f64| {
             if bound.is_finite() && bound >= 0.0 {
                 Ok(bound)
@@ -69,7 +67,6 @@ impl SceneAssumptions {
             names: scene.obstacles.iter().map(|o| o.name.clone()).collect(),
             violations: vec![0; obstacles.len()],
             obstacles,
-            clearance: usable("clearance", clearance)?,
         })
     }
 }
@@ -162,10 +159,23 @@ impl Monitor {
     ) -> Result<Monitor, MonitorError> {
         require_certified(report.verdict)?;
         let bounds = Bounds::from_premises(premises)?;
-        let scene = SceneAssumptions::of(scene, clearance)?;
+        if !(clearance.is_finite() && clearance >= 0.0) {
+            return Err(MonitorError::BadBound {
+                name: "clearance",
+                bound: clearance,
+            });
+        }
+        let params = scene.params::<f64>();
+        let rule = Rule {
+            moving: params.robot,
+            fixed: params.static_robot,
+            clearance,
+        };
+        let assumptions = SceneAssumptions::of(scene)?;
         Ok(Self::with_bounds(
             bounds,
-            Some(scene),
+            rule,
+            Some(assumptions),
             max_obstacles,
             reserve,
         ))

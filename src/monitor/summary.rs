@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::check::PremiseCheck;
-use super::{Check, Event, Monitor, SceneCheck, Verdict};
+use super::{BehaviourCheck, Check, Event, Monitor, SceneCheck, Verdict};
 use crate::proof::premise::PremiseKind;
 
 /// How a premise fared.
@@ -35,6 +35,33 @@ impl Status {
     }
 }
 
+/// The smallest slack a check had: how far the observed value stayed from breaking the
+/// bound it is compared with (bound − observed for an upper bound, observed − bound for a
+/// lower one, in the check's unit; negative where it was broken), and where.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Margin {
+    /// The slack.
+    pub slack: f64,
+    /// Time of the sample that had it (s).
+    pub t: f64,
+    /// Index of that sample (0-based count of samples fed to the monitor).
+    pub sample: u64,
+}
+
+impl Margin {
+    /// No slack seen yet.
+    pub(crate) const NONE: Margin = Margin {
+        slack: f64::INFINITY,
+        t: f64::NAN,
+        sample: 0,
+    };
+
+    /// The margin, once some evaluation had a slack.
+    pub(crate) fn seen(self) -> Option<Margin> {
+        self.slack.is_finite().then_some(self)
+    }
+}
+
 /// One premise in a [`Summary`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PremiseSummary {
@@ -53,6 +80,9 @@ pub struct PremiseSummary {
     /// Why it was not checked or not monitored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// Its smallest slack, when it was evaluated on a value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<Margin>,
 }
 
 /// One fail-safe check in a [`Summary`].
@@ -83,6 +113,8 @@ pub struct Summary {
     pub premises: Vec<PremiseSummary>,
     /// The fail-safe checks on the input.
     pub fail_safe: Vec<FailSafeSummary>,
+    /// The checks of the model beyond its premises (observations, controller, collision).
+    pub behaviour: Vec<CheckSummary>,
     /// Under a scene certificate: the scene checks and the scene's obstacles (absent for a
     /// single-obstacle certificate, whose summary is as it always was).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -93,7 +125,7 @@ pub struct Summary {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SceneSummary {
     /// The scene checks, in [`SceneCheck::ALL`]'s order.
-    pub checks: Vec<SceneCheckSummary>,
+    pub checks: Vec<CheckSummary>,
     /// The scene's obstacles, in scene order.
     pub obstacles: Vec<CertifiedObstacleSummary>,
     /// Tracked objects seen whose id matches no obstacle of the scene (checked against the
@@ -101,15 +133,20 @@ pub struct SceneSummary {
     pub unmatched: u64,
 }
 
-/// One scene check in a [`SceneSummary`].
+/// A scene check's summary: a [`CheckSummary`].
+pub type SceneCheckSummary = CheckSummary;
+
+/// One behaviour or scene check in a [`Summary`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SceneCheckSummary {
+pub struct CheckSummary {
     /// The check.
     pub check: Check,
     /// How it fared.
     pub status: Status,
-    /// Its bound, where it has one: 2σ/dt for `static_obstacle`, the clearance for
-    /// `collision` (`obstacle_lane` compares each obstacle with its own lane).
+    /// Its bound, where it has one fixed bound: 2σ_g/dt for `static_obstacle`, the clearance
+    /// for `collision`, v_max for `robot_envelope`, ρ for `observation_dropout`
+    /// (`obstacle_lane` compares each obstacle with its own lane; the others' bounds vary
+    /// with the sample and are in their events).
     pub bound: Option<f64>,
     /// The bound's unit.
     pub unit: String,
@@ -120,6 +157,9 @@ pub struct SceneCheckSummary {
     /// Why it was not checked or not monitored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// Its smallest slack, when it was evaluated on a value (`robot_envelope`: the speed's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<Margin>,
 }
 
 /// One obstacle of the scene in a [`SceneSummary`]: what the certificate assumed of it and
@@ -162,13 +202,54 @@ impl Monitor {
             obstacles: self.distinct_obstacles,
             violations: self.violations.iter().sum(),
             first_violation: self.first,
+            // `speed_noise` only where the certificate states it (σ_w > 0): certificates
+            // without it, as every noise-free one, read as σ_w = 0 and summarise as before.
             premises: PremiseKind::ALL
                 .into_iter()
+                .filter(|&k| k != PremiseKind::SpeedNoise || self.bounds.speed_noise > 0.0)
                 .map(|kind| self.premise_summary(kind))
                 .collect(),
             fail_safe,
+            behaviour: BehaviourCheck::ALL
+                .into_iter()
+                .map(|c| {
+                    let bound = match c {
+                        BehaviourCheck::Collision => Some(self.rule.clearance),
+                        BehaviourCheck::RobotEnvelope => Some(self.rule.moving.v_max),
+                        BehaviourCheck::ObservationDropout => Some(self.rule.moving.rho),
+                        BehaviourCheck::ObservationInconsistent
+                        | BehaviourCheck::ControllerReaction => None,
+                    };
+                    self.check_summary(Check::Behaviour(c), c.row(), bound)
+                })
+                .collect(),
             scene: self.scene_summary(),
         }
+    }
+
+    /// How a behaviour or scene check fared.
+    fn check_summary(&self, check: Check, row: &PremiseCheck, bound: Option<f64>) -> CheckSummary {
+        let (status, checks, violations, reason) = self.status(check, row);
+        // robot_envelope's events carry their unit in the detail; its bound here is v_max.
+        let unit = match check {
+            Check::RobotEnvelope => "m/s",
+            _ => row.unit,
+        };
+        CheckSummary {
+            check,
+            status,
+            bound,
+            unit: unit.to_string(),
+            checks,
+            violations,
+            reason,
+            margin: self.margin(check),
+        }
+    }
+
+    /// The smallest slack `check` had so far, if it was evaluated on a value.
+    pub fn margin(&self, check: Check) -> Option<Margin> {
+        self.margins[check.index()].seen()
     }
 
     /// The scene checks and obstacles, under a scene certificate.
@@ -206,18 +287,8 @@ impl Monitor {
                         Some(2.0 * self.bounds.observation_noise / self.bounds.control_period)
                     }
                     SceneCheck::ObstacleLane => None,
-                    SceneCheck::Collision => Some(scene.clearance),
                 };
-                let (status, checks, violations, reason) = self.status(Check::Scene(c), c.row());
-                SceneCheckSummary {
-                    check: Check::Scene(c),
-                    status,
-                    bound,
-                    unit: c.row().unit.to_string(),
-                    checks,
-                    violations,
-                    reason,
-                }
+                self.check_summary(Check::Scene(c), c.row(), bound)
             })
             .collect();
         Some(SceneSummary {
@@ -255,6 +326,7 @@ impl Monitor {
             checks,
             violations,
             reason,
+            margin: self.margin(check),
         }
     }
 }

@@ -34,17 +34,21 @@ pub enum PremiseKind {
     FirstDetectionGap,
     /// Observed gap and speed are off by at most σ (m).
     ObservationNoise,
+    /// Observed obstacle speeds are off by at most σ_w (m/s). Listed only when positive, so
+    /// that certificates of noise-free problems read and write as they always have.
+    SpeedNoise,
 }
 
 impl PremiseKind {
     /// Every premise, in the order certificates list them.
-    pub const ALL: [PremiseKind; 6] = [
+    pub const ALL: [PremiseKind; 7] = [
         PremiseKind::ObstacleSpeed,
         PremiseKind::BrakingDeceleration,
         PremiseKind::ControlPeriod,
         PremiseKind::Latency,
         PremiseKind::FirstDetectionGap,
         PremiseKind::ObservationNoise,
+        PremiseKind::SpeedNoise,
     ];
 
     /// How many premises there are: the size of every per-premise table.
@@ -64,6 +68,7 @@ impl PremiseKind {
             PremiseKind::Latency => "latency",
             PremiseKind::FirstDetectionGap => "first_detection_gap",
             PremiseKind::ObservationNoise => "observation_noise",
+            PremiseKind::SpeedNoise => "speed_noise",
         }
     }
 
@@ -76,13 +81,14 @@ impl PremiseKind {
             PremiseKind::Latency => "observations lag behind by at most",
             PremiseKind::FirstDetectionGap => "an obstacle is first seen at a gap of at least",
             PremiseKind::ObservationNoise => "observed gap and speed are off by at most",
+            PremiseKind::SpeedNoise => "observed obstacle speeds are off by at most",
         }
     }
 
     /// The unit of its bound, as certificates write it.
     pub const fn unit(self) -> &'static str {
         match self {
-            PremiseKind::ObstacleSpeed => "m/s",
+            PremiseKind::ObstacleSpeed | PremiseKind::SpeedNoise => "m/s",
             PremiseKind::BrakingDeceleration => "m/s^2",
             PremiseKind::ControlPeriod => "s",
             PremiseKind::Latency => "control periods",
@@ -107,6 +113,8 @@ impl PremiseKind {
                 .min(problem.environment.initial_gap.min()),
             // σ_g: the gap noise the analysis covered (0: exact observations).
             PremiseKind::ObservationNoise => problem.gap_noise(),
+            // σ_w: the speed noise the analysis covered.
+            PremiseKind::SpeedNoise => problem.speed_noise(),
         }
     }
 
@@ -169,11 +177,39 @@ impl Premise {
 }
 
 /// The premises of a problem's verdict, in [`PremiseKind::ALL`] order (DESIGN.md §3).
+/// `speed_noise` is listed only when its bound is positive: a certificate without it means
+/// σ_w = 0, and the certificates of noise-free problems stay byte for byte as they were.
 pub fn premises(problem: &Problem) -> Vec<Premise> {
     PremiseKind::ALL
         .into_iter()
         .map(|kind| Premise::of(kind, problem))
+        .filter(|p| p.name != PremiseKind::SpeedNoise || p.bound > 0.0)
         .collect()
+}
+
+/// The observation noise a list of premises allows: σ_g (m, `observation_noise`) and σ_w
+/// (m/s, `speed_noise`), each 0 when the list does not state it (the first of each kind
+/// counts, as for every premise).
+pub fn noise(premises: &[Premise]) -> Noise {
+    let first = |kind: PremiseKind| {
+        premises
+            .iter()
+            .find(|p| p.name == kind)
+            .map_or(0.0, |p| p.bound)
+    };
+    Noise {
+        gap: first(PremiseKind::ObservationNoise),
+        speed: first(PremiseKind::SpeedNoise),
+    }
+}
+
+/// How far observations may be off, as a certificate's premises state it (see [`noise`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Noise {
+    /// σ_g: an observed gap (or position) is within ±σ_g of the true one (m).
+    pub gap: f64,
+    /// σ_w: an observed obstacle speed is within ±σ_w of the true one (m/s).
+    pub speed: f64,
 }
 
 /// A premise as written: the field order here is the order in certificates.
@@ -277,6 +313,33 @@ mod tests {
             let text = serde_json::to_string(&p).unwrap();
             assert_eq!(serde_json::from_str::<Premise>(&text).unwrap(), p);
         }
+    }
+
+    #[test]
+    fn speed_noise_is_listed_only_when_positive_and_read_as_zero_when_absent() {
+        let seed = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed.toml"));
+        let problem = Problem::from_toml_str(seed, "seed.toml").unwrap();
+        let listed = premises(&problem);
+        assert!(listed.iter().all(|p| p.name != PremiseKind::SpeedNoise));
+        assert_eq!(listed.len(), PremiseKind::COUNT - 1);
+        assert_eq!(noise(&listed), Noise::default());
+        let with = [
+            Premise {
+                name: PremiseKind::ObservationNoise,
+                bound: 0.02,
+            },
+            Premise {
+                name: PremiseKind::SpeedNoise,
+                bound: 0.01,
+            },
+        ];
+        assert_eq!(
+            noise(&with),
+            Noise {
+                gap: 0.02,
+                speed: 0.01
+            }
+        );
     }
 
     #[test]

@@ -17,6 +17,7 @@ mod explore;
 mod fixtures;
 mod monitor;
 mod monitor_cli;
+mod monitor_real;
 mod monitor_scene;
 mod noise;
 mod radius;

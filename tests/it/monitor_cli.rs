@@ -118,7 +118,7 @@ fn worked_example_certified_for_w_0_2_flagged_at_0_25() {
         r.stdout
     );
     assert!(r.stdout.contains("summary: VIOLATED"));
-    assert!(r.stdout.contains("  obstacle_speed        violated"));
+    assert!(r.stdout.contains("  obstacle_speed           violated"));
 
     // Without obstacle_v the speed is estimated from positions: the same sample is flagged.
     let stripped: String = trace
@@ -208,7 +208,30 @@ struct SummaryBody {
     violations: u64,
     first_violation: Option<EventLine>,
     premises: Vec<PremiseLine>,
+    behaviour: Vec<CheckLine>,
     fail_safe: std::collections::BTreeMap<String, u64>,
+}
+
+/// The smallest slack of a check, and where.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MarginLine {
+    slack: f64,
+    t: f64,
+    sample: u64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CheckLine {
+    check: String,
+    status: String,
+    bound: Option<f64>,
+    unit: String,
+    checks: u64,
+    violations: u64,
+    reason: Option<String>,
+    margin: Option<MarginLine>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -221,6 +244,7 @@ struct PremiseLine {
     checks: u64,
     violations: u64,
     reason: Option<String>,
+    margin: Option<MarginLine>,
 }
 
 const HEADER: &str = "t,robot_x,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_v\n";
@@ -288,6 +312,7 @@ fn json_events_and_summary_are_typed_lines() {
             (9, "malformed_sample"),
             (10, "malformed_sample"),
             (12, "first_detection_gap"),
+            (13, "controller_reaction"),
         ]
     );
     assert!(events.iter().all(|e| e.action == "brake"));
@@ -315,7 +340,7 @@ fn json_events_and_summary_are_typed_lines() {
     assert_eq!(s.verdict, "violated");
     assert_eq!(
         (s.samples, s.instants, s.obstacles, s.violations),
-        (12, 5, 2, 7)
+        (12, 5, 2, 8)
     );
     let first = s.first_violation.unwrap();
     assert_eq!(
@@ -380,10 +405,11 @@ fn each_fail_safe_case_is_named_and_the_monitor_reads_on() {
         "t=? VIOLATION malformed_sample: t is not a number -> brake (line 10)",
         "t=0.3 violated",
         "t=0.3 VIOLATION first_detection_gap obstacle=B observed 0.44 m < bound 1.4 m -> brake (line 12)",
-        "t=0.4 violated",
+        // B at 0.44 m, the robot driving on one period later (latency 1): it ignored danger.
+        "t=0.4 VIOLATION controller_reaction obstacle=B observed 0.44 m <= bound 1.4 m: the observed gap (m) was within the danger distance min(rho, d(v)) and the robot was not braking -> brake (line 13)",
     ];
     assert_eq!(&out[..expected.len()], expected, "{}", r.stdout);
-    assert!(out[expected.len()].starts_with("summary: VIOLATED: 7 violations in 12 samples"));
+    assert!(out[expected.len()].starts_with("summary: VIOLATED: 8 violations in 12 samples"));
     assert!(r.stdout.contains(
         "fail-safe: malformed_sample 3, non_finite 1, time_backwards 1, duplicate_sample 1"
     ));
@@ -410,7 +436,9 @@ fn a_header_without_a_required_column() {
     certify_seed(dir.path(), "0.2");
     let text = "t,robot_x,obstacle_id,obstacle_x\n0,0,A,10\n0.1,0.02,A,9.99\n";
     let r = monitor(dir.path(), &["-"], Some(text));
-    assert_eq!(r.code, 1);
+    // Every line is reported, and none could be checked: exit 2, "nothing was checked".
+    assert_eq!(r.code, 2);
+    assert!(r.stderr.contains("nothing was checked"), "{}", r.stderr);
     let out: Vec<&str> = r.stdout.lines().collect();
     assert_eq!(
         out[..3],
@@ -578,7 +606,7 @@ fn format_by_extension_option_or_content() {
     assert_eq!(r.code, 1);
     assert!(r.stdout.contains("observed 5 m/s"));
     let r = monitor(dir.path(), &["trace.csv"], None);
-    assert_eq!(r.code, 1);
+    assert_eq!(r.code, 2, "no line of it is a readable sample");
     let first = r.stdout.lines().next().unwrap();
     assert_eq!(
         first,
@@ -617,14 +645,29 @@ fn events_only_and_empty_input() {
         .iter()
         .position(|l| l.starts_with("summary:"))
         .unwrap();
-    assert_eq!(summary, 7);
+    assert_eq!(summary, 8);
     assert!(lines[..summary].iter().all(|l| l.contains(" VIOLATION ")));
-    let r = monitor(dir.path(), &["-"], Some(""));
-    assert_eq!(r.code, 0);
-    assert!(
-        r.stdout
-            .starts_with("summary: held: no samples, nothing was checked")
-    );
+    // An empty trace checked nothing: that is no "held" (it used to be, exit 0), but exit 2,
+    // as is a trace of a header only.
+    for text in ["", HEADER] {
+        let r = monitor(dir.path(), &["-"], Some(text));
+        assert_eq!(r.code, 2, "{text:?}");
+        assert!(
+            r.stdout
+                .starts_with("summary: NOTHING CHECKED: no readable sample"),
+            "{}",
+            r.stdout
+        );
+        assert!(
+            r.stderr.contains("standard input: nothing was checked"),
+            "{}",
+            r.stderr
+        );
+        let r = monitor(dir.path(), &["-", "--json"], Some(text));
+        assert_eq!(r.code, 2);
+        let s: SummaryLine = serde_json::from_str(r.stdout.trim()).unwrap();
+        assert_eq!(s.summary.verdict, "nothing_checked");
+    }
 }
 
 #[test]
@@ -633,16 +676,19 @@ fn many_interleaved_obstacles_by_textual_id() {
     certify_seed(dir.path(), "0.2");
     let mut text = String::from(HEADER);
     let names = ["person", "cart", "dog"];
+    let mut x = [20.0, 21.0, 22.0];
     for k in 0..50 {
         let t = k as f64 * 0.1;
         for (i, name) in names.iter().enumerate() {
-            // The cart speeds up past 0.2 m/s from step 30 on.
-            let v = if *name == "cart" && k >= 30 {
-                0.25
-            } else {
-                0.1
+            // The cart speeds up past 0.2 m/s from step 30 on; each row states the speed over
+            // the period that ends at it, and positions move accordingly.
+            let v = match k {
+                0 => 0.0,
+                _ if *name == "cart" && k >= 30 => 0.25,
+                _ => 0.1,
             };
-            text += &format!("{t},{},0.2,drive,{name},{},{v}\n", 0.2 * t, 20.0 + i as f64);
+            x[i] -= v * 0.1;
+            text += &format!("{t},{},0.2,drive,{name},{},{v}\n", 0.2 * t, x[i]);
         }
     }
     std::fs::write(dir.path().join("many.csv"), &text).unwrap();
@@ -667,4 +713,41 @@ fn many_interleaved_obstacles_by_textual_id() {
     );
     let ids: BTreeSet<String> = events.into_iter().filter_map(|e| e.obstacle_id).collect();
     assert_eq!(ids.len(), 1);
+}
+
+/// Robot-only rows (empty obstacle cells in CSV, no obstacle keys in JSON Lines) are
+/// instants: a trace whose obstacle is out of view for a frame, far outside ρ, holds (it used
+/// to be `malformed_sample`); the `--json` summary gives each check's smallest slack and
+/// where: `control_period`'s is 0 s (every step exactly dt), `first_detection_gap`'s the
+/// first gap less ρ.
+#[test]
+fn robot_only_rows_and_margins_in_json() {
+    let dir = tmp();
+    certify_seed(dir.path(), "0.2");
+    let csv = format!(
+        "{HEADER}0,0,0.2,drive,A,10,0\n0.1,0.02,0.2,drive,,,\n0.2,0.04,0.2,drive,A,9.98,0.1\n"
+    );
+    let jsonl = "{\"t\":0,\"robot_x\":0,\"robot_v\":0.2,\"robot_mode\":\"drive\",\"obstacle_id\":\"A\",\"obstacle_x\":10,\"obstacle_v\":0}\n\
+                 {\"t\":0.1,\"robot_x\":0.02,\"robot_v\":0.2,\"robot_mode\":\"drive\",\"obstacle_id\":null}\n\
+                 {\"t\":0.2,\"robot_x\":0.04,\"robot_v\":0.2,\"robot_mode\":\"drive\",\"obstacle_id\":\"A\",\"obstacle_x\":9.98,\"obstacle_v\":0.1}\n";
+    for text in [csv.as_str(), jsonl] {
+        let r = monitor(dir.path(), &["-", "--json"], Some(text));
+        assert_eq!(r.code, 0, "{}{}", r.stdout, r.stderr);
+        let s: SummaryLine = serde_json::from_str(r.stdout.trim()).unwrap();
+        let s = s.summary;
+        assert_eq!((s.verdict.as_str(), s.samples, s.instants), ("held", 3, 3));
+        let premise = |name: &str| s.premises.iter().find(|p| p.premise == name).unwrap();
+        let period = premise("control_period").margin.as_ref().unwrap();
+        assert!(period.slack.abs() < 1e-12 && period.t > 0.0, "{period:?}");
+        let first = premise("first_detection_gap").margin.as_ref().unwrap();
+        assert_eq!((first.slack, first.t, first.sample), (10.0 - 1.4, 0.0, 0));
+        let collision = s.behaviour.iter().find(|c| c.check == "collision").unwrap();
+        assert_eq!(
+            (collision.status.as_str(), collision.bound),
+            ("held", Some(0.0))
+        );
+        assert_eq!((collision.unit.as_str(), collision.violations), ("m", 0));
+        assert!(collision.checks == 2 && collision.reason.is_none());
+        assert!(collision.margin.is_some());
+    }
 }

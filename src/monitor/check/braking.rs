@@ -26,15 +26,16 @@ impl Monitor {
         if r.mode != Some(Mode::Brake) || r.v <= 0.0 {
             return;
         }
-        self.count(Check::BrakingDeceleration);
         // A robot at rest at the next instant decelerated fast enough (it may have stopped
         // inside the step); one still moving must have slowed by at least b over the step.
         if s.robot_v <= 0.0 {
+            self.count(Check::BrakingDeceleration);
             return;
         }
         let step = s.t - r.t;
         let b = self.bounds.braking_deceleration;
         let decel = (r.v - s.robot_v) / step;
+        self.count_with_slack(Check::BrakingDeceleration, decel - b, s.t);
         let slack =
             RELATIVE_TOLERANCE * b + (rounding(r.v, s.robot_v) + b * rounding(r.t, s.t)) / step;
         if decel < b - slack {

@@ -60,7 +60,23 @@ impl Monitor {
         Some(self.obstacles[idx])
     }
 
-    /// A sample at or before the current instant `r`: time going backwards, the obstacle
+    /// A robot-only sample is admitted unless a number is non-finite (reported).
+    #[inline(always)]
+    pub(in crate::monitor) fn admit_robot(&mut self, s: &Sample) -> bool {
+        match non_finite(s) {
+            None => true,
+            Some(field) => {
+                self.count(Check::NonFinite);
+                let t = Some(s.t).filter(|t| t.is_finite());
+                let event = Violation::of_input(Check::NonFinite, t, None);
+                self.raise(event.detail(Detail::NonFinite(field)));
+                false
+            }
+        }
+    }
+
+    /// A sample at or before the current instant `r` (`track`: its obstacle's record; `None`
+    /// for a robot-only sample): time going backwards, the obstacle
     /// twice at the instant, or a robot state that differs from the instant's are rejected
     /// (reported); a robot mode or lanes the instant lacked are adopted. Whether it is
     /// accepted.
@@ -70,14 +86,17 @@ impl Monitor {
         s: &Sample,
         lanes: Lanes,
         r: RobotAt,
-        track: &Track,
+        track: Option<&Track>,
     ) -> bool {
         if s.t < r.t {
             let event = Violation::at(Check::TimeBackwards, s);
             self.raise(event.observed(s.t).bound(r.t));
             return false;
         }
-        if track.seen && track.instant == self.instant {
+        if let Some(track) = track
+            && track.seen
+            && track.instant == self.instant
+        {
             self.raise(Violation::at(Check::DuplicateSample, s).observed(s.t));
             return false;
         }

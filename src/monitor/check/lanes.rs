@@ -1,6 +1,7 @@
 //! The checks that use lanes, under a scene certificate: an obstacle the certificate names
 //! stays in its lane (`obstacle_lane`), and the robot never moves at a separation ≤
-//! clearance from an obstacle in a lane it occupies (`collision`, docs/semantics.md §11.6).
+//! clearance from an obstacle in a lane it occupies (`collision`, docs/semantics.md §11.6;
+//! a single-obstacle certificate's monitor checks it too, every obstacle counting).
 //!
 //! Which obstacles count for `collision`: one whose lane (stated by the sample, else the
 //! certified one of a named obstacle) the robot occupies (its lane, or the one it is leaving
@@ -17,10 +18,42 @@ use crate::monitor::event::Violation;
 use crate::monitor::scene::CertifiedObstacle;
 use crate::monitor::{Lanes, Monitor, RELATIVE_TOLERANCE, Sample, Track};
 
+/// Where an obstacle is relative to the robot's lanes, as one sample shows it.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::monitor) struct LaneView {
+    /// Whether it was ahead when the robot entered its lane (`None`: the robot is not in
+    /// its lane); the side `collision` measures from.
+    pub(in crate::monitor) ahead: Option<bool>,
+    /// Its lane, when the sample or the certificate says.
+    pub(in crate::monitor) lane: Option<i32>,
+    /// Whether the controller's guards count it: it is in the robot's lane (during a lane
+    /// change, the lane moved into), or either lane is unknown.
+    pub(in crate::monitor) relevant: bool,
+}
+
 impl Monitor {
+    /// `collision` for a single-obstacle certificate (no lanes: every obstacle counts).
+    /// Returns the side to remember, as [`Monitor::check_lanes`].
+    #[inline(always)]
+    pub(in crate::monitor) fn check_collision_ahead(
+        &mut self,
+        s: &Sample,
+        track: &Track,
+    ) -> LaneView {
+        let gap = s.obstacle_x - s.robot_x;
+        let ahead = track.ahead.unwrap_or(gap > 0.0);
+        if s.robot_v > 0.0 {
+            self.check_collision(s, if ahead { gap } else { -gap });
+        }
+        LaneView {
+            ahead: Some(ahead),
+            lane: None,
+            relevant: true,
+        }
+    }
+
     /// `obstacle_lane` and `collision` for a sample stating `lanes` (the robot's from the
-    /// instant). Returns the obstacle's side to remember: whether it was ahead when the robot
-    /// entered its lane (`None`: the robot is not in its lane). Out of line: only a scene
+    /// instant). Returns where the obstacle is ([`LaneView`]). Out of line: only a scene
     /// certificate's monitor calls it, and a single obstacle's stays as small as it was.
     #[inline(never)]
     pub(in crate::monitor) fn check_lanes(
@@ -29,7 +62,7 @@ impl Monitor {
         lanes: Lanes,
         track: &Track,
         certified: Option<CertifiedObstacle>,
-    ) -> Option<bool> {
+    ) -> LaneView {
         if let Some(stated) = lanes.obstacle {
             self.carried.obstacle_lane = true;
             if let Some(o) = certified {
@@ -42,26 +75,40 @@ impl Monitor {
         }
         let lane = lanes.obstacle.or(certified.map(|o| o.lane));
         let robot = self.robot_lanes;
+        let relevant = match (lane, robot.robot) {
+            (Some(l), Some(r)) => l == r,
+            _ => true,
+        };
         if lane.and_then(|l| robot.robot_occupies(l)) == Some(false) {
-            return None;
+            return LaneView {
+                ahead: None,
+                lane,
+                relevant,
+            };
         }
         let gap = s.obstacle_x - s.robot_x;
         let ahead = track.ahead.unwrap_or(gap > 0.0);
         if s.robot_v > 0.0 {
             self.check_collision(s, if ahead { gap } else { -gap });
         }
-        Some(ahead)
+        LaneView {
+            ahead: Some(ahead),
+            lane,
+            relevant,
+        }
     }
 
     /// `collision`: the robot moves at `separation` ≤ clearance, less the rounding error of
-    /// the gap (so a full-precision trace of a safe run raises nothing).
+    /// the gap and the observation noise σ_g (taken in the robot's favour: a collision is
+    /// reported only when every true gap the observation allows is one; so a full-precision
+    /// trace of a safe run, or one with noise within σ_g, raises nothing).
     #[inline]
     fn check_collision(&mut self, s: &Sample, separation: f64) {
-        let Some(clearance) = self.scene.as_ref().map(|scene| scene.clearance) else {
-            return;
-        };
-        self.count(Check::Collision);
-        let slack = RELATIVE_TOLERANCE * clearance + rounding(s.obstacle_x, s.robot_x);
+        let clearance = self.rule.clearance;
+        self.count_with_slack(Check::Collision, separation - clearance, s.t);
+        let slack = RELATIVE_TOLERANCE * clearance
+            + rounding(s.obstacle_x, s.robot_x)
+            + self.bounds.observation_noise;
         if separation <= clearance - slack {
             let v = Violation::at(Check::Collision, s);
             self.raise(v.observed(separation).bound(clearance));

@@ -23,13 +23,16 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use super::MonitorError;
 use crate::proof::premise::{Premise, PremiseKind};
 
+mod behaviour;
 mod braking;
+mod controller;
 mod input;
 mod lanes;
 mod obstacle;
 mod scene;
 mod timing;
 
+pub use behaviour::BehaviourCheck;
 pub use scene::SceneCheck;
 
 /// Rounding error of one derived quantity, in units of its operands' magnitude.
@@ -86,6 +89,10 @@ pub enum Check {
     Premise(PremiseKind),
     /// A fail-safe check on the input.
     FailSafe(FailSafe),
+    /// A check of what the model says beyond its premises: that observations can be
+    /// explained by it, that the controller did what the certified one does, and safety
+    /// itself (every certificate's monitor runs them).
+    Behaviour(BehaviourCheck),
     /// A check a scene certificate adds (only a scene certificate's monitor runs them).
     Scene(SceneCheck),
 }
@@ -116,25 +123,40 @@ impl Check {
     pub const StaticObstacle: Check = Check::Scene(SceneCheck::StaticObstacle);
     /// A named obstacle outside its certified lane.
     pub const ObstacleLane: Check = Check::Scene(SceneCheck::ObstacleLane);
+    /// Reported obstacle speed and positions disagree beyond the noise.
+    pub const ObservationInconsistent: Check =
+        Check::Behaviour(BehaviourCheck::ObservationInconsistent);
+    /// An obstacle inside the reaction area went unobserved for an instant.
+    pub const ObservationDropout: Check = Check::Behaviour(BehaviourCheck::ObservationDropout);
+    /// The robot did not brake when its observation showed danger.
+    pub const ControllerReaction: Check = Check::Behaviour(BehaviourCheck::ControllerReaction);
+    /// The robot's speed or acceleration beyond the certified v_max or a.
+    pub const RobotEnvelope: Check = Check::Behaviour(BehaviourCheck::RobotEnvelope);
     /// The robot moved at a separation ≤ clearance from an obstacle of its lane.
-    pub const Collision: Check = Check::Scene(SceneCheck::Collision);
+    pub const Collision: Check = Check::Behaviour(BehaviourCheck::Collision);
 }
 
 impl Check {
     /// How many checks there are: the size of the monitor's counters.
-    pub const COUNT: usize = PremiseKind::COUNT + FailSafe::ALL.len() + SceneCheck::ALL.len();
+    pub const COUNT: usize = PremiseKind::COUNT
+        + FailSafe::ALL.len()
+        + BehaviourCheck::ALL.len()
+        + SceneCheck::ALL.len();
 
     /// Every check: the premises in the certificate's order, then the fail-safe ones, then
     /// the scene checks.
     pub const ALL: [Check; Check::COUNT] = {
-        const FIRST_SCENE: usize = PremiseKind::COUNT + FailSafe::ALL.len();
+        const FIRST_BEHAVIOUR: usize = PremiseKind::COUNT + FailSafe::ALL.len();
+        const FIRST_SCENE: usize = FIRST_BEHAVIOUR + BehaviourCheck::ALL.len();
         let mut all = [Check::MalformedSample; Check::COUNT];
         let mut i = 0;
         while i < Check::COUNT {
             all[i] = if i < PremiseKind::COUNT {
                 Check::Premise(PremiseKind::ALL[i])
-            } else if i < FIRST_SCENE {
+            } else if i < FIRST_BEHAVIOUR {
                 Check::FailSafe(FailSafe::ALL[i - PremiseKind::COUNT])
+            } else if i < FIRST_SCENE {
+                Check::Behaviour(BehaviourCheck::ALL[i - FIRST_BEHAVIOUR])
             } else {
                 Check::Scene(SceneCheck::ALL[i - FIRST_SCENE])
             };
@@ -162,15 +184,24 @@ impl Check {
         Check::DuplicateSample,
     ];
 
+    /// The checks of what the model says beyond its premises.
+    pub const BEHAVIOUR: [Check; BehaviourCheck::ALL.len()] = [
+        Check::ObservationInconsistent,
+        Check::ObservationDropout,
+        Check::ControllerReaction,
+        Check::RobotEnvelope,
+        Check::Collision,
+    ];
+
     /// The checks a scene certificate adds.
-    pub const SCENE: [Check; SceneCheck::ALL.len()] =
-        [Check::StaticObstacle, Check::ObstacleLane, Check::Collision];
+    pub const SCENE: [Check; SceneCheck::ALL.len()] = [Check::StaticObstacle, Check::ObstacleLane];
 
     /// The stable name.
     pub const fn as_str(self) -> &'static str {
         match self {
             Check::Premise(kind) => kind.name(),
             Check::FailSafe(f) => f.name(),
+            Check::Behaviour(c) => c.name(),
             Check::Scene(c) => c.name(),
         }
     }
@@ -189,7 +220,7 @@ impl Check {
     pub fn premise(self) -> Option<PremiseKind> {
         match self {
             Check::Premise(kind) => Some(kind),
-            Check::FailSafe(_) | Check::Scene(_) => None,
+            Check::FailSafe(_) | Check::Behaviour(_) | Check::Scene(_) => None,
         }
     }
 
@@ -197,7 +228,7 @@ impl Check {
     pub fn scene(self) -> Option<SceneCheck> {
         match self {
             Check::Scene(c) => Some(c),
-            Check::Premise(_) | Check::FailSafe(_) => None,
+            Check::Premise(_) | Check::FailSafe(_) | Check::Behaviour(_) => None,
         }
     }
 
@@ -207,6 +238,7 @@ impl Check {
             Check::Premise(kind) => PremiseCheck::of(kind).unit,
             Check::FailSafe(FailSafe::TimeBackwards | FailSafe::DuplicateSample) => "s",
             Check::FailSafe(FailSafe::MalformedSample | FailSafe::NonFinite) => "",
+            Check::Behaviour(c) => c.row().unit,
             Check::Scene(c) => c.row().unit,
         }
     }
@@ -218,6 +250,7 @@ impl Check {
             Check::Premise(kind) => PremiseCheck::of(kind).relation,
             Check::FailSafe(FailSafe::TimeBackwards) => "<",
             Check::FailSafe(_) => ">",
+            Check::Behaviour(c) => c.row().relation,
             Check::Scene(c) => c.row().relation,
         }
     }
@@ -228,7 +261,10 @@ impl Check {
         match self {
             Check::Premise(kind) => kind.index(),
             Check::FailSafe(f) => PremiseKind::COUNT + f as usize,
-            Check::Scene(c) => PremiseKind::COUNT + FailSafe::ALL.len() + c as usize,
+            Check::Behaviour(c) => PremiseKind::COUNT + FailSafe::ALL.len() + c as usize,
+            Check::Scene(c) => {
+                PremiseKind::COUNT + FailSafe::ALL.len() + BehaviourCheck::ALL.len() + c as usize
+            }
         }
     }
 }
@@ -268,6 +304,8 @@ pub(crate) struct Carried {
     pub(crate) observation_time: bool,
     /// Some sample had `obstacle_lane`.
     pub(crate) obstacle_lane: bool,
+    /// Some sample had `obstacle_v`.
+    pub(crate) obstacle_speed: bool,
 }
 
 /// How the monitor treats one premise (or scene check): its row in the per-check table.
@@ -300,6 +338,7 @@ impl PremiseCheck {
             PremiseKind::Latency => &timing::LATENCY,
             PremiseKind::FirstDetectionGap => &obstacle::FIRST_DETECTION_GAP,
             PremiseKind::ObservationNoise => &obstacle::OBSERVATION_NOISE,
+            PremiseKind::SpeedNoise => &obstacle::SPEED_NOISE,
         }
     }
 }
@@ -317,8 +356,10 @@ pub struct Bounds {
     pub latency: f64,
     /// ρ (m).
     pub first_detection_gap: f64,
-    /// σ (m).
+    /// σ_g (m).
     pub observation_noise: f64,
+    /// σ_w (m/s); 0 when the certificate lists no `speed_noise` premise.
+    pub speed_noise: f64,
 }
 
 impl Bounds {
@@ -331,15 +372,20 @@ impl Bounds {
             PremiseKind::Latency => self.latency,
             PremiseKind::FirstDetectionGap => self.first_detection_gap,
             PremiseKind::ObservationNoise => self.observation_noise,
+            PremiseKind::SpeedNoise => self.speed_noise,
         })
     }
 
     /// The bounds of `premises` (the first of each kind), each finite and not negative (and
-    /// positive where the check needs it, as for the control period).
+    /// positive where the check needs it, as for the control period). `speed_noise` may be
+    /// absent: a certificate that does not list it was proved with exact speeds (σ_w = 0).
     pub fn from_premises(premises: &[Premise]) -> Result<Bounds, MonitorError> {
         let mut table: [Option<f64>; PremiseKind::COUNT] = [None; PremiseKind::COUNT];
         for p in premises {
             table[p.name.index()].get_or_insert(p.bound);
+        }
+        if table[PremiseKind::SpeedNoise.index()].is_none() {
+            table[PremiseKind::SpeedNoise.index()] = Some(0.0);
         }
         let bound = |kind: PremiseKind| -> Result<f64, MonitorError> {
             let name = kind.name();
@@ -358,6 +404,7 @@ impl Bounds {
             latency: bound(PremiseKind::Latency)?,
             first_detection_gap: bound(PremiseKind::FirstDetectionGap)?,
             observation_noise: bound(PremiseKind::ObservationNoise)?,
+            speed_noise: bound(PremiseKind::SpeedNoise)?,
         })
     }
 }

@@ -1,11 +1,10 @@
 //! The checks a scene certificate adds to its premises ([`SceneCheck`]): what the scene
 //! states of each obstacle beyond the speed bound (static obstacles stay put, named obstacles
-//! keep their lane) and safety itself (no collision in a lane the robot occupies). A
-//! single-obstacle certificate has none of them, so its monitor's output is as it was.
+//! keep their lane). A single-obstacle certificate has none of them. (Safety itself,
+//! `collision`, is a [`BehaviourCheck`](super::BehaviourCheck) every monitor runs.)
 //!
 //! Their rows (unit, relation, reasons) are [`PremiseCheck`]s like the premises'; the checks
-//! themselves are in `obstacle.rs` (`static_obstacle`) and `lanes.rs` (`obstacle_lane`,
-//! `collision`).
+//! themselves are in `obstacle.rs` (`static_obstacle`) and `lanes.rs` (`obstacle_lane`).
 
 use super::{Carried, PremiseCheck};
 
@@ -17,24 +16,17 @@ pub enum SceneCheck {
     StaticObstacle,
     /// An obstacle the certificate names was seen in a lane other than its own.
     ObstacleLane,
-    /// The robot moved with an obstacle of a lane it occupies at a separation ≤ clearance.
-    Collision,
 }
 
 impl SceneCheck {
     /// Every scene check, in output order.
-    pub const ALL: [SceneCheck; 3] = [
-        SceneCheck::StaticObstacle,
-        SceneCheck::ObstacleLane,
-        SceneCheck::Collision,
-    ];
+    pub const ALL: [SceneCheck; 2] = [SceneCheck::StaticObstacle, SceneCheck::ObstacleLane];
 
     /// The stable name.
     pub const fn name(self) -> &'static str {
         match self {
             SceneCheck::StaticObstacle => "static_obstacle",
             SceneCheck::ObstacleLane => "obstacle_lane",
-            SceneCheck::Collision => "collision",
         }
     }
 
@@ -43,7 +35,6 @@ impl SceneCheck {
         match self {
             SceneCheck::StaticObstacle => &STATIC_OBSTACLE,
             SceneCheck::ObstacleLane => &OBSTACLE_LANE,
-            SceneCheck::Collision => &COLLISION,
         }
     }
 }
@@ -64,15 +55,6 @@ const OBSTACLE_LANE: PremiseCheck = PremiseCheck {
     positive: false,
     not_checked: "no obstacle of the certificate was seen",
     not_monitored: lane_not_monitored,
-};
-
-/// `collision`: separation ≤ clearance while the robot moves (m).
-const COLLISION: PremiseCheck = PremiseCheck {
-    unit: "m",
-    relation: "<=",
-    positive: false,
-    not_checked: "the robot never moved with an obstacle in a lane it occupies",
-    not_monitored: super::always_monitored,
 };
 
 fn lane_not_monitored(carried: Carried) -> Option<&'static str> {

@@ -37,7 +37,7 @@ impl Monitor {
     pub(in crate::monitor) fn check_period(&mut self, from: f64, s: &Sample) {
         let dt = self.bounds.control_period;
         let step = s.t - from;
-        self.count(Check::ControlPeriod);
+        self.count_with_slack(Check::ControlPeriod, dt - step, s.t);
         if step > dt + RELATIVE_TOLERANCE * dt + rounding(from, s.t) {
             self.raise(
                 Violation::at(Check::ControlPeriod, s)
@@ -50,10 +50,10 @@ impl Monitor {
     /// `latency` of an observation taken at `obs_t`, in control periods.
     #[inline]
     pub(in crate::monitor) fn check_latency(&mut self, s: &Sample, obs_t: f64) {
-        self.count(Check::Latency);
         let dt = self.bounds.control_period;
         let age = (s.t - obs_t) / dt;
         let l = self.bounds.latency;
+        self.count_with_slack(Check::Latency, l - age, s.t);
         if age > l + RELATIVE_TOLERANCE * l.max(1.0) + rounding(s.t, obs_t) / dt {
             self.raise(Violation::at(Check::Latency, s).observed(age).bound(l));
         }

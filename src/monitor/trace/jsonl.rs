@@ -262,6 +262,8 @@ fn json_field<'l>(
                 }
                 raw.id = Some(IdAt::Line(at, at + text.len()));
             }
+            // `null`: no obstacle (a robot-only row, if no obstacle number is given).
+            Some(b'n') if j.token() == b"null" => raw.id = None,
             _ => {
                 let _ = j.skip_value(0);
                 return Err(Detail::BadId);

@@ -29,9 +29,13 @@
 //! `NaN`, `Infinity` and `-Infinity` are accepted as numbers and reported as non-finite.
 //! Unknown keys are ignored.
 //!
+//! A row with the robot only — `obstacle_id`, `obstacle_x`, `obstacle_v`, `obstacle_t` all
+//! empty (CSV) or absent (JSON Lines; `obstacle_id` may be `null`) — is an instant at which no
+//! obstacle was observed: [`Decoded::Robot`].
+//!
 //! Blank lines are skipped (they are not samples).
 
-use super::{Detail, Field, Lanes, Sample};
+use super::{Detail, Field, Lanes, RobotSample, Sample};
 use crate::core::semantics::Mode;
 
 mod csv;
@@ -88,6 +92,15 @@ pub enum Decoded<'l> {
     Sample {
         /// The sample, with the obstacle's integer id.
         sample: Sample,
+        /// `t` as written in the line.
+        t_text: &'l [u8],
+    },
+    /// A robot-only sample: an instant at which no obstacle was observed (the obstacle
+    /// cells empty, or the obstacle keys absent); give it to
+    /// [`Monitor::observe_robot`](super::Monitor::observe_robot) with [`Decoder::lanes`].
+    Robot {
+        /// The robot's state.
+        sample: RobotSample,
         /// `t` as written in the line.
         t_text: &'l [u8],
     },
@@ -309,7 +322,20 @@ impl Decoder {
     /// has an integer id.
     #[inline]
     fn sample<'l>(&mut self, line: &'l [u8], raw: &Raw<'l>) -> Decoded<'l> {
-        // t, robot_x, robot_v and obstacle_x are required.
+        // t, robot_x, robot_v and obstacle_x are required, except in a robot-only row (no
+        // obstacle id and no obstacle number at all).
+        if raw.present & 0b111 == 0b111 && raw.present & 0b111000 == 0 && raw.id.is_none() {
+            self.lanes = raw.lanes;
+            return Decoded::Robot {
+                sample: RobotSample {
+                    t: raw.num[0],
+                    robot_x: raw.num[1],
+                    robot_v: raw.num[2],
+                    robot_mode: raw.robot_mode,
+                },
+                t_text: raw.t_text.unwrap_or(b""),
+            };
+        }
         if raw.present & 0b1111 != 0b1111 {
             let missing = [Field::T, Field::RobotX, Field::RobotV, Field::ObstacleX]
                 .into_iter()

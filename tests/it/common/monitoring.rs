@@ -15,6 +15,9 @@ pub fn text_events(monitor: &mut Monitor, text: &str, format: Option<Format>) ->
             Decoded::Sample { sample, .. } => {
                 all.extend_from_slice(monitor.observe_decoded(&decoder, &sample).events)
             }
+            Decoded::Robot { sample, .. } => {
+                all.extend_from_slice(monitor.observe_robot(&sample, decoder.lanes()).events)
+            }
             Decoded::Malformed { t, detail, .. } => {
                 all.extend_from_slice(monitor.malformed(t, detail).events)
             }
