@@ -19,6 +19,7 @@ mod explore;
 mod explore_scene;
 mod export_uppaal;
 mod input;
+mod interrupt;
 mod max_speed;
 mod monitor;
 mod output;

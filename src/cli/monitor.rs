@@ -42,6 +42,7 @@ use safereach::monitor::{
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
+use super::interrupt::Interruptible;
 use super::output::Output;
 
 /// Arguments of `safereach monitor`.
@@ -83,7 +84,7 @@ enum FormatArg {
 struct Session {
     monitor: Monitor,
     decoder: Decoder,
-    input: Box<dyn Read>,
+    input: Box<dyn Read + Send>,
     /// The input as named in errors: the trace's path, or `standard input`.
     origin: String,
     printer: Printer,
@@ -110,8 +111,8 @@ impl Session {
             None if live => None,
             None => Format::from_path(&args.trace),
         };
-        let input: Box<dyn Read> = if live {
-            Box::new(io::stdin().lock())
+        let input: Box<dyn Read + Send> = if live {
+            Box::new(io::stdin())
         } else {
             Box::new(
                 File::open(&args.trace)
@@ -147,6 +148,7 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
     } = Session::new(&args)?;
     // Verdicts are printed in large blocks, and flushed before every read that may block.
     let mut out = BufWriter::with_capacity(1 << 16, out);
+    let input = Interruptible::new(input).context("listening for Ctrl-C and SIGTERM")?;
     let mut lines = Lines::new(input);
     loop {
         let line = lines
@@ -184,6 +186,10 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
                 outcome.events,
             )
             .context("writing the output")?;
+    }
+    if let Some(signal) = lines.inner.interrupted_by() {
+        // The summary still says what was read: a stopped monitor must not lose it.
+        eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
     }
     finish(&monitor, &decoder, &printer, &mut out, &origin)
 }

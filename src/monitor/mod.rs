@@ -60,12 +60,22 @@
 //!
 //! | name | violated when | observed | bound |
 //! | --- | --- | --- | --- |
-//! | `obstacle_speed` | the obstacle's speed towards the robot exceeds W: `obstacle_v` when the sample has it, else estimated from this and the obstacle's previous position | speed (m/s) | W |
-//! | `braking_deceleration` | after a sample in mode `brake` with the robot moving, the robot is still moving at the next instant and slowed by less than b·Δt | (v₀ − v₁)/Δt (m/s²) | b |
-//! | `control_period` | two successive instants, or two successive samples of one obstacle that missed an instant in between, are more than dt apart | Δt (s) | dt |
+//! | `obstacle_speed` | the obstacle's speed towards the robot exceeds its bound: `obstacle_v` above W + σ_w, or the speed estimated from its previous position above W + 2σ_g/Δt (across a dropout over the whole gap: a reappearing obstacle must have been able to get there); a static obstacle stated faster than σ_w | speed (m/s) | W |
+//! | `braking_deceleration` | after a sample in mode `brake` with the robot moving, the robot is still moving at the next instant and slowed by less than b_min·Δt | (v₀ − v₁)/Δt (m/s²) | b_min |
+//! | `control_period` | two successive instants are more than dt apart (an obstacle missing from an instant is a dropout, below) | Δt (s) | dt |
 //! | `latency` | (samples with `obstacle_t` only) the observation is older than L periods: (t − obstacle_t)/dt > L | age (periods) | L |
-//! | `first_detection_gap` | an obstacle is first seen at a gap obstacle_x − robot_x below ρ (it appeared inside the reaction radius) | gap (m) | ρ |
-//! | `observation_noise` | never: not monitored (observation errors need the true positions, which a trace of observations does not carry) | | σ |
+//! | `first_detection_gap` | an obstacle is first seen at a gap obstacle_x − robot_x below ρ − σ_g (it appeared inside the reaction radius) | gap (m) | ρ |
+//! | `observation_noise`, `speed_noise` | never by themselves (errors need the true positions, which a trace of observations does not carry); σ_g and σ_w widen the other checks | | σ |
+//!
+//! and the model's behaviour checks (ModelPlex's controller and safety monitors):
+//!
+//! | name | violated when |
+//! | --- | --- |
+//! | `observation_inconsistent` | a stated speed and the speed from the obstacle's last two positions differ by more than σ_w + 2σ_g/Δt (plus rounding) |
+//! | `observation_dropout` | an obstacle last seen inside the reaction area is missing from a later instant |
+//! | `controller_reaction` | (with `robot_mode`) the robot is not braking (in scenes: nor changing lanes or out of the obstacle's lane) at the instant its observation shows danger for every gap within σ_g, or a wrong assumption |
+//! | `robot_envelope` | the robot's speed above v_max, or its acceleration above a, beyond the stated tolerance |
+//! | `collision` | the robot moving with a gap ≤ clearance (noise in the robot's favour): the gravest event, reported even when every premise held |
 //!
 //! and four fail-safe checks on the input itself; a sample that fails one is reported and
 //! otherwise ignored (it changes no state), and the monitor goes on:
@@ -83,9 +93,9 @@
 //! Robot checks (`control_period` between instants, `braking_deceleration`) run on the first
 //! sample of each instant, obstacle checks on every sample.
 //!
-//! An obstacle is checked against ρ at its first sighting only; one that drops out of the
-//! trace for an instant or more is reported under `control_period` when it comes back (the
-//! controller went without an observation of it for longer than dt).
+//! An obstacle is checked against ρ at its first sighting only. One that drops out of the
+//! trace while outside the reaction area is fine; inside it, the missed instant is an
+//! `observation_dropout`. Robot-only instants (no obstacle in view) are [`RobotSample`]s.
 //!
 //! **Tolerances.** A value the trace states (`obstacle_v`) is compared with its bound exactly.
 //! Values the monitor derives by subtraction and division (an estimated speed, a
@@ -94,7 +104,7 @@
 //! [`RELATIVE_TOLERANCE`] (one part in 10⁹) of the bound plus the worst-case rounding error
 //! of the computation, 8ε·(|a₀| + |a₁|)/Δ for a difference of a₀ and a₁ over Δ (ε the machine
 //! epsilon). An estimated speed is further widened by 2σ/Δt, the most that observation noise
-//! σ (the certificate's `observation_noise`, 0 so far) can add. So a trace written with full
+//! σ (the certificate's `observation_noise`) can add. So a trace written with full
 //! precision (as `simulate --trace` does) never raises a false alarm, and a physically
 //! meaningful violation is never hidden. A trace that rounds positions (to a millimetre,
 //! say) carries an error the certificate did not allow for (σ = 0): give `obstacle_v`, or

@@ -15,7 +15,7 @@ use serde::Deserialize;
 use serde_json::Value;
 
 use crate::common::cli::safereach;
-use crate::common::paths::{problem_file, seed_file};
+use crate::common::paths::{fixture, problem_file, root, seed_file};
 use crate::common::tmp;
 
 struct Run {
@@ -750,4 +750,49 @@ fn robot_only_rows_and_margins_in_json() {
         assert!(collision.checks == 2 && collision.reason.is_none());
         assert!(collision.margin.is_some());
     }
+}
+
+/// A live monitor stopped by SIGTERM (or Ctrl-C) while waiting for more of its trace prints
+/// the summary of what it read, and says it was interrupted.
+#[test]
+fn sigterm_on_a_live_monitor_prints_the_summary_of_what_was_read() {
+    use std::io::{BufRead, BufReader, Write};
+    use std::process::{Command, Stdio};
+    let trace = std::fs::read_to_string(root().join("examples/traces/noisy.csv")).unwrap();
+    let head: String = trace.lines().take(30).map(|l| format!("{l}\n")).collect();
+    let mut child = Command::new(assert_cmd::cargo::cargo_bin("safereach"))
+        .args(["monitor", "--certificate"])
+        .arg(fixture("seed.cert.json"))
+        .arg("-")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    let mut stdin = child.stdin.take().unwrap();
+    stdin.write_all(head.as_bytes()).unwrap();
+    stdin.flush().unwrap();
+    // Wait until the monitor has answered the last line written: it is reading, not done.
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut seen = Vec::new();
+    while seen.len() < 29 {
+        let mut line = String::new();
+        assert!(out.read_line(&mut line).unwrap() > 0, "output ended early");
+        seen.push(line);
+    }
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    drop(stdin);
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    assert!(rest.contains("summary"), "no summary after SIGTERM: {rest}");
+    assert!(err.contains("interrupted by SIGTERM"), "{err}");
+    // The noisy trace violates the exact certificate's premises: the verdict stands.
+    assert_eq!(status.code(), Some(1), "{rest}");
 }

@@ -10,6 +10,8 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use safereach::analysis::analyse;
+use safereach::core::model::Sensing;
 use safereach::core::semantics::Mode;
 use safereach::core::simulate::TraceRow;
 use safereach::monitor::{Check, Event, Lanes, Monitor, RobotSample, Sample, Verdict};
@@ -92,18 +94,28 @@ fn with_noise(samples: &[Sample], gap: f64, speed: f64, seed: u64) -> Vec<Sample
 /// certified worst-case replay with uniform noise ≤ σ — and the same noisy traces against
 /// the σ = 0 premises do raise (`obstacle_speed` or `observation_inconsistent`).
 ///
-/// The analyser does not certify noisy problems yet, so the monitor is built from the
-/// certificate's problem and its premises with σ_g = 2 mm, σ_w = 0.01 m/s through
-/// [`Monitor::for_premises`].
+/// The monitor is built from the seed's certificate proved *for* σ_g = 2 mm, σ_w = 0.01 m/s
+/// (`[sensing]`), and, as a control, from explicit premises with the same bounds
+/// ([`Monitor::for_premises`]).
 #[test]
 fn noise_within_sigma_raises_nothing_and_without_sigma_it_does() {
     let cert = seed_certificate();
     let clean = samples(&worst_case(&cert));
     let (gap, speed) = (0.002, 0.01);
     let premises = noisy_premises(&cert, gap, speed);
+    let mut problem = cert.problem.clone();
+    problem.sensing = Some(Sensing {
+        gap_noise: Some(gap),
+        speed_noise: Some(speed),
+    });
+    let proved = Certificate::from_analysis(&analyse(&problem).expect("analyses"));
+    assert_eq!(proved.verdict, safereach::analysis::Verdict::Certified);
     let mut raised_without_sigma = 0;
     for seed in 0..2000 {
         let noisy = with_noise(&clean, gap, speed, seed);
+        let mut by_proof = Monitor::new(&proved).unwrap();
+        let got = events(&mut by_proof, &noisy);
+        assert!(got.is_empty(), "run {seed}, noisy certificate: {got:?}");
         let mut m = Monitor::for_premises(&cert.problem, &premises).unwrap();
         let got = events(&mut m, &noisy);
         assert!(got.is_empty(), "run {seed}: {got:?}");
@@ -437,4 +449,37 @@ fn margins_are_the_smallest_slack_and_where() {
         .fold(f64::INFINITY, f64::min);
     let collision = m.margin(Check::Collision).unwrap();
     assert_eq!(collision.slack, closest - cert.clearance);
+}
+
+/// README's commands: the seed certified for 2 mm / 0.01 m/s of noise, and the noisy
+/// example trace monitored against it, holds (exit 0); against the exact certificate it
+/// does not (exit 1).
+#[test]
+fn the_readme_noisy_trace_holds_against_a_certificate_proved_for_its_noise() {
+    use crate::common::cli::safereach;
+    use crate::common::paths::{root, seed_file};
+    let dir = crate::common::tmp();
+    let cert = dir.path().join("seed-noisy.json");
+    safereach(dir.path())
+        .arg("certify")
+        .arg(seed_file())
+        .args(["--set", "sensing.gap_noise=0.002"])
+        .args(["--set", "sensing.speed_noise=0.01"])
+        .arg("--out")
+        .arg(&cert)
+        .assert()
+        .code(0);
+    let trace = root().join("examples/traces/noisy.csv");
+    safereach(dir.path())
+        .args(["monitor", "--certificate"])
+        .arg(&cert)
+        .arg(&trace)
+        .assert()
+        .code(0);
+    safereach(dir.path())
+        .args(["monitor", "--certificate"])
+        .arg(fixture("seed.cert.json"))
+        .arg(&trace)
+        .assert()
+        .code(1);
 }

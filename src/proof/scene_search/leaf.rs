@@ -6,7 +6,7 @@
 //! its measure is the gap, lowest where the robot's moving instants in J end (the exit at
 //! e·dt, or the rest instant, or never: −∞); when it is beside or behind, the measure is
 //! −gap, lowest at J's start. Which side it is on is one more interval constraint on
-//! X(s), so each case is an exact marginal of its chain ([`Chain::marginal`]).
+//! X(s), so each case is an exact marginal of its chain (`Chain::marginal`).
 
 use crate::core::num::Scalar;
 use crate::core::rational::Rational;
