@@ -9,7 +9,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use safereach::analysis::{Options, WitnessPolicy, analyse, analyse_with};
-use safereach::core::model::{DangerRule, Problem};
+use safereach::core::model::{DangerRule, Problem, Sensing};
 use safereach::proof::certificate::{Certificate, check};
 
 /// Median time per call of `f`, over `rounds` rounds of `per_round` calls.
@@ -80,6 +80,39 @@ fn main() {
     println!(
         "seed: certify = analyse + certificate + check {:>8.1} µs",
         t_full.as_secs_f64() * 1e6
+    );
+
+    // Sensing noise (issue 10): the seed with 2 mm / 0.01 m/s of noise against itself
+    // without, in the same run; pieces, programs and time.
+    let mut noisy = seed.clone();
+    noisy.sensing = Some(Sensing {
+        gap_noise: Some(0.002),
+        speed_noise: Some(0.01),
+    });
+    let certify = |p: &Problem| {
+        let a = analyse(p).expect("analyses");
+        let c = Certificate::from_analysis(&a);
+        black_box(check(&c).expect("verifies"));
+        a
+    };
+    let (plain, with_noise) = (certify(&seed), certify(&noisy));
+    let t_plain = median(31, 20, || {
+        certify(black_box(&seed));
+    });
+    let t_noisy = median(31, 20, || {
+        certify(black_box(&noisy));
+    });
+    println!(
+        "noise: seed {} pieces / {} LPs {:.1} µs; with sigma_g 2 mm, sigma_w 0.01 m/s {} pieces / {} LPs {:.1} µs ({:.2}x), s* {:?} -> {:?}",
+        plain.outcomes.len(),
+        plain.programs_solved,
+        t_plain.as_secs_f64() * 1e6,
+        with_noise.outcomes.len(),
+        with_noise.programs_solved,
+        t_noisy.as_secs_f64() * 1e6,
+        t_noisy.as_secs_f64() / t_plain.as_secs_f64(),
+        plain.min_separation,
+        with_noise.min_separation,
     );
 
     // Brake-on-entry, latency 0: the analyser against the closed form on the same cases.
