@@ -88,6 +88,7 @@ fn main() {
     noisy.sensing = Some(Sensing {
         gap_noise: Some(0.002),
         speed_noise: Some(0.01),
+        first_detection_gap: None,
     });
     let certify = |p: &Problem| {
         let a = analyse(p).expect("analyses");

@@ -470,9 +470,16 @@ fn replay_witness(
     let params = &dec.params;
     let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
     speeds.resize(max_steps, quantised(&params.W));
-    let react_at = piece.has_objective().then_some(piece.brake + shift);
+    let aim = simulate::Aim {
+        react_at: piece.has_objective().then_some(piece.brake + shift),
+        hidden_until: if piece.detected {
+            piece.brake + shift
+        } else {
+            0
+        },
+    };
     let replay =
-        simulate::replay_reacting_at(params, &speeds, react_at, max_steps, !piece.has_objective());
+        simulate::replay_reacting_at(params, &speeds, aim, max_steps, !piece.has_objective());
     speeds.truncate(replay.periods());
     Witness {
         piece,
@@ -514,6 +521,7 @@ pub fn params_f64(p: &Params<Exact>) -> Params<f64> {
         g0_max: p.g0_max.to_f64().value(),
         sigma_g: p.sigma_g.to_f64().value(),
         sigma_w: p.sigma_w.to_f64().value(),
+        d_det: p.d_det.as_ref().map(|d| d.to_f64().value()),
     }
 }
 

@@ -99,7 +99,7 @@ fn replay(
     let replay = simulate::replay_reacting_at(
         &exact,
         &witness.obstacle_speeds,
-        witness.react_at(),
+        witness.aim(),
         witness.obstacle_speeds.len(),
         false,
     );

@@ -272,6 +272,7 @@ pub fn symbolic(p: &Params<Exact>) -> Params<ParamAffine> {
         // Noise bounds are not named parameters yet (issue 11 names them).
         sigma_g: c(&p.sigma_g),
         sigma_w: c(&p.sigma_w),
+        d_det: p.d_det.as_ref().map(c),
         k: p.k.map(&c),
     }
 }

@@ -278,6 +278,8 @@ pub struct World<N> {
     gaps: VecDeque<N>,
     /// Obstacle speeds over the last L+1 periods, newest last.
     speeds: VecDeque<N>,
+    /// Occlusion: the robot sees nothing at the starts of steps before this one.
+    hidden_until: usize,
 }
 
 impl<N: Scalar> World<N> {
@@ -296,6 +298,7 @@ impl<N: Scalar> World<N> {
             gap,
             gaps: VecDeque::with_capacity(params.L + 2),
             speeds: VecDeque::with_capacity(params.L + 2),
+            hidden_until: 0,
             params,
         }
     }
@@ -325,11 +328,19 @@ impl<N: Scalar> World<N> {
         self.robot.mode == Mode::Stop
     }
 
+    /// Occlusion (DESIGN.md §1.2): the robot sees nothing at the starts of steps before
+    /// `k` (the environment keeps the obstacle hidden; the caller keeps the first sighting
+    /// at a true gap ≥ d_det).
+    pub fn hide_until(&mut self, k: usize) {
+        self.hidden_until = k;
+    }
+
     /// What the robot sees at the start of period k: the gap at (k−L)·dt and the obstacle's
-    /// speed over period k−L−1 (0 before the first period); nothing before L·dt.
+    /// speed over period k−L−1 (0 before the first period); nothing before L·dt, nor while
+    /// the obstacle is hidden ([`World::hide_until`]).
     pub fn observation(&self) -> Option<Observation<N>> {
         let l = self.params.L;
-        if self.k < l {
+        if self.k < l || self.k < self.hidden_until {
             return None;
         }
         // gaps holds g_{k-L..=k} once k ≥ L (with g_k pushed in step); here g_k is self.gap.

@@ -63,21 +63,34 @@ pub fn run<N: Scalar>(
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Run<N> {
-    run_reacting_at(params, speed, None, max_steps, stop_at_collision)
+    run_reacting_at(params, speed, Aim::default(), max_steps, stop_at_collision)
 }
 
-/// [`run`] where, with noisy sensing, the environment keeps the robot from reacting before
-/// period `react_at` and lets it react from then on (None: never), as far as the noise
-/// allows ([`World::step_with`]). A worst case is replayed so: its schedule names the period
-/// at which the robot brakes.
+/// What the environment aims at beyond the obstacle's speeds: the period from which it
+/// lets the robot react (None: never), and the period before which it keeps the obstacle
+/// hidden (0: seen from the start).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Aim {
+    /// Errors keep the guard quiet before this period and let it fire from it on.
+    pub react_at: Option<usize>,
+    /// Nothing is seen at the starts of earlier periods.
+    pub hidden_until: usize,
+}
+
+/// [`run`] with the environment's [`Aim`]: with noisy sensing it keeps the robot from
+/// reacting before period `react_at` and lets it react from then on, as far as the noise
+/// allows ([`World::step_with`]); with occlusion it hides the obstacle before
+/// `hidden_until`. A worst case is replayed so: its schedule names both.
 pub fn run_reacting_at<N: Scalar>(
     params: Params<N>,
     mut speed: impl FnMut(usize) -> N,
-    react_at: Option<usize>,
+    aim: Aim,
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Run<N> {
+    let react_at = aim.react_at;
     let mut world = World::new(params);
+    world.hide_until(aim.hidden_until);
     let mut records = Vec::new();
     let mut outcome = RunOutcome {
         collided: false,
@@ -174,14 +187,14 @@ pub fn replay(
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Replay {
-    replay_reacting_at(params, speeds, None, max_steps, stop_at_collision)
+    replay_reacting_at(params, speeds, Aim::default(), max_steps, stop_at_collision)
 }
 
 /// [`replay`] with the observation errors of [`run_reacting_at`].
 pub fn replay_reacting_at(
     params: &Params<Exact>,
     speeds: &[f64],
-    react_at: Option<usize>,
+    aim: Aim,
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Replay {
@@ -195,7 +208,7 @@ pub fn replay_reacting_at(
                 .map(|&w| Rational::from_exact(&exact_float(w)))
                 .unwrap_or_else(|| tail.clone())
         },
-        react_at,
+        aim,
         max_steps,
         stop_at_collision,
     );

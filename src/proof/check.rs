@@ -185,7 +185,7 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     let replay = simulate::replay_reacting_at(
         &params,
         &w.obstacle_speeds,
-        w.react_at(),
+        w.aim(),
         w.obstacle_speeds.len(),
         false,
     );

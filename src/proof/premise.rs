@@ -107,10 +107,12 @@ impl PremiseKind {
             PremiseKind::Latency => f64::from(r.latency),
             // The reaction radius, or the initial gap when that is smaller: the model's
             // obstacle starts there, inside the area, and then that is what the proof covers.
-            PremiseKind::FirstDetectionGap => problem
-                .controller
-                .reaction_radius
-                .min(problem.environment.initial_gap.min()),
+            PremiseKind::FirstDetectionGap => problem.first_detection_gap().unwrap_or_else(|| {
+                problem
+                    .controller
+                    .reaction_radius
+                    .min(problem.environment.initial_gap.min())
+            }),
             // σ_g: the gap noise the analysis covered (0: exact observations).
             PremiseKind::ObservationNoise => problem.gap_noise(),
             // σ_w: the speed noise the analysis covered.

@@ -117,6 +117,10 @@ pub struct Piece {
     /// same rows from step T−2 on, so one piece stands for all of them.
     #[serde(default)]
     pub early: bool,
+    /// Occlusion: the obstacle was hidden at every earlier step and is first seen at T, at
+    /// a true gap ≥ d_det (`sensing.first_detection_gap`); no schedule rows before T.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub detected: bool,
 }
 
 impl Piece {
@@ -236,7 +240,33 @@ impl Decomposition {
         } else {
             d.list_pieces(merge_at);
         }
+        if d.params.d_det.is_some() {
+            d.list_detected_pieces(merge_at);
+        }
         d
+    }
+
+    /// Occlusion's pieces: hidden at every step before T, first seen at T at a true gap
+    /// ≥ d_det, and the guard fires there. (Pieces first seen *before* T are the ones
+    /// above: their rows from the first sighting on are the visible schedule's, and a
+    /// visible start is the weaker constraint; see docs/semantics.md §12.)
+    fn list_detected_pieces(&mut self, merge_at: Option<usize>) {
+        let mut endings = vec![Ending::Danger];
+        if self.params.wrong_assumption_active() {
+            endings.push(Ending::WrongAssumption);
+        }
+        let l = self.params.L;
+        let last = merge_at.unwrap_or(self.last_brake);
+        let before = self.pieces.len();
+        for t in self.first_brake.max(l)..last {
+            self.push_endings(None, t, false, &endings);
+        }
+        if let Some(t) = merge_at {
+            self.push_endings(None, t, true, &endings);
+        }
+        for piece in &mut self.pieces[before..] {
+            piece.detected = true;
+        }
     }
 
     /// Sets `first_brake` (before it even the fastest obstacle is observed outside ρ) and
@@ -365,6 +395,7 @@ impl Decomposition {
             ending: Ending::Bystander,
             merged: false,
             early,
+            detected: false,
         };
         if !self.params.wrong_assumption_active() || t <= l {
             return vec![piece(None, false)];
@@ -439,6 +470,7 @@ impl Decomposition {
                 ending,
                 merged,
                 early: false,
+                detected: false,
             });
         }
     }
@@ -465,6 +497,15 @@ impl Decomposition {
     /// The anchor index m of a piece: the first gap index any of its rows mentions.
     pub(crate) fn anchor(&self, piece: &Piece) -> usize {
         let l = self.params.L;
+        if piece.detected {
+            // Only the sighting's gap g_n, and for a wrong assumption the speed before it.
+            let n = piece.brake - l;
+            return if piece.ending == Ending::WrongAssumption {
+                n - 1
+            } else {
+                n
+            };
+        }
         match piece.entry {
             // An early piece's rows start at o_E ≤ ρ, its own entry's at o_{E−1} > ρ.
             Some(e) if piece.early => e - l,
@@ -498,8 +539,16 @@ impl Decomposition {
         let n = piece.brake.saturating_sub(self.params.L);
         let mut vars = self.variables(&s, piece, m, n);
         let mut rows = Vec::new();
-        self.schedule_rows(&s, piece, m, &mut vars, &mut rows);
         let g_n = self.gap(m, n, vars.len());
+        match (&s.d_det, piece.detected) {
+            (Some(d_det), true) => at_least(
+                &mut rows,
+                format!("g[{n}] >= d_det (first seen)"),
+                &g_n,
+                d_det.clone(),
+            ),
+            _ => self.schedule_rows(&s, piece, m, &mut vars, &mut rows),
+        }
         if piece.ending != Ending::Bystander {
             self.ending_rows(&s, piece, m, &g_n, &mut rows);
         }
@@ -773,6 +822,15 @@ fn min_opt(rho: &ParamAffine, d: Option<ParamAffine>) -> ParamAffine {
         Some(d) if d < *rho => d,
         _ => rho.clone(),
     }
+}
+
+/// Pushes the row `e ≥ bound` (not strict).
+fn at_least(rows: &mut Vec<Row>, label: String, e: &Affine, bound: ParamAffine) {
+    let negated = Affine {
+        coef: e.coef.iter().map(|c| -c.clone()).collect(),
+        constant: -e.constant.clone(),
+    };
+    at_most(rows, label, &negated, -bound);
 }
 
 /// Pushes the row `e ≤ bound`.

@@ -62,4 +62,17 @@ impl Witness {
             .has_objective()
             .then(|| self.piece.brake + self.shift)
     }
+
+    /// What the environment aims at in its replay: [`Witness::react_at`], and for a piece
+    /// first seen at its brake step (occlusion) the obstacle hidden until then.
+    pub fn aim(&self) -> crate::core::simulate::Aim {
+        crate::core::simulate::Aim {
+            react_at: self.react_at(),
+            hidden_until: if self.piece.detected {
+                self.piece.brake + self.shift
+            } else {
+                0
+            },
+        }
+    }
 }

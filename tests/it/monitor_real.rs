@@ -107,6 +107,7 @@ fn noise_within_sigma_raises_nothing_and_without_sigma_it_does() {
     problem.sensing = Some(Sensing {
         gap_noise: Some(gap),
         speed_noise: Some(speed),
+        first_detection_gap: None,
     });
     let proved = Certificate::from_analysis(&analyse(&problem).expect("analyses"));
     assert_eq!(proved.verdict, safereach::analysis::Verdict::Certified);

@@ -175,6 +175,12 @@ pub(crate) const KEYS: &[KeySpec] = &[
         "m/s",
         Bound::NonNegative,
     ),
+    spec(
+        "sensing.first_detection_gap",
+        Kind::Number,
+        "m",
+        Bound::Positive,
+    ),
 ];
 
 /// The tables of a problem file.

@@ -63,6 +63,10 @@ pub struct Sensing {
     /// None: 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_noise: Option<f64>,
+    /// d_det: an obstacle may stay hidden until its first observation shows a true gap of
+    /// at least d_det (m), > 0, which may lie inside ρ; None: visible from the start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_detection_gap: Option<f64>,
 }
 
 impl Problem {
@@ -72,6 +76,12 @@ impl Problem {
             .as_ref()
             .and_then(|s| s.gap_noise)
             .unwrap_or(0.0)
+    }
+
+    /// d_det: the least true gap at which a hidden obstacle is first seen (None: no
+    /// obstacle is hidden).
+    pub fn first_detection_gap(&self) -> Option<f64> {
+        self.sensing.as_ref().and_then(|s| s.first_detection_gap)
     }
 
     /// σ_w: the speed noise bound (0 unless the problem says otherwise).
@@ -214,6 +224,7 @@ mod tests {
         full.sensing = Some(Sensing {
             gap_noise: Some(0.01),
             speed_noise: Some(0.02),
+            first_detection_gap: Some(0.8),
         });
         let table: toml::Table = toml::from_str(&full.to_toml_string()).unwrap();
         let mut keys = Vec::new();

@@ -45,6 +45,8 @@ pub struct Params<N> {
     pub sigma_g: N,
     /// σ_w: how far an observed obstacle speed may be off the true one
     pub sigma_w: N,
+    /// d_det: a hidden obstacle is first seen at a true gap ≥ d_det (None: never hidden)
+    pub d_det: Option<N>,
     /// Products every control period uses, computed once from the numbers above.
     pub k: StepConstants<N>,
 }
@@ -116,6 +118,7 @@ impl Problem {
             g0_max: N::decimal(e.initial_gap.max()),
             sigma_g: N::decimal(self.gap_noise()),
             sigma_w: N::decimal(self.speed_noise()),
+            d_det: self.first_detection_gap().map(N::decimal),
         }
     }
 }
@@ -155,6 +158,7 @@ impl<N: Scalar> Params<N> {
             g0_max: f(&self.g0_max),
             sigma_g: f(&self.sigma_g),
             sigma_w: f(&self.sigma_w),
+            d_det: self.d_det.as_ref().map(&f),
             k: self.k.map(&f),
         }
     }

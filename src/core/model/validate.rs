@@ -22,6 +22,7 @@ impl Problem {
             let optional = [
                 ("sensing.gap_noise", s.gap_noise),
                 ("sensing.speed_noise", s.speed_noise),
+                ("sensing.first_detection_gap", s.first_detection_gap),
             ];
             numbers.extend(optional.iter().filter_map(|&(k, x)| Some((k, x?))));
         }
@@ -77,13 +78,17 @@ impl Problem {
                 ),
             });
         }
-        if gap.is_range() && (self.gap_noise() > 0.0 || self.speed_noise() > 0.0) {
+        if gap.is_range()
+            && (self.gap_noise() > 0.0
+                || self.speed_noise() > 0.0
+                || self.first_detection_gap().is_some())
+        {
             // A range is answered by the scene engines, which observe exactly so far.
             return Some(Violation {
                 key: "environment.initial_gap",
                 value: show_range(&gap),
-                reason: "a range of initial gaps cannot be combined with sensing noise yet; \
-                         give one initial gap"
+                reason: "a range of initial gaps cannot be combined with [sensing] settings \
+                         yet; give one initial gap"
                     .into(),
             });
         }

@@ -121,11 +121,11 @@ pub fn explore(
 
 /// Explores a model breadth first (see the module docs).
 pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Exploration, ExploreError> {
-    if model.params().noisy() {
+    if model.params().noisy() || model.params().d_det.is_some() {
         // Its state key classifies future observations as they are, without errors.
         return Err(ExploreError::Options(
-            "the explorer does not model sensing noise yet (sensing.gap_noise, \
-             sensing.speed_noise); certify analyses it exactly"
+            "the explorer does not model sensing noise or occlusion yet (sensing.gap_noise, \
+             sensing.speed_noise, sensing.first_detection_gap); certify analyses them exactly"
                 .into(),
         ));
     }

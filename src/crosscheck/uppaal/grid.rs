@@ -65,10 +65,10 @@ pub(super) fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
 /// The drive profile's speeds: every speed the robot can brake from (0, then one per
 /// control period until v_max).
 pub(super) fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
-    if p.noisy() {
+    if p.noisy() || p.d_det.is_some() {
         return Err(UppaalError::Grid(
-            "the UPPAAL export models exact observations; sensing.gap_noise and \
-             sensing.speed_noise are not exported yet"
+            "the UPPAAL export models exact observations of a visible obstacle; \
+             the [sensing] settings are not exported yet"
                 .into(),
         ));
     }
