@@ -94,6 +94,12 @@ pub enum AnalysisError {
          (SceneAnswer::of(&Scene::from_problem(&problem)))"
     )]
     GapRange,
+    /// Occlusion with an active wrong-assumption guard (refused by validation too; see
+    /// docs/semantics.md §12): not analysed yet.
+    #[error(
+        "sensing.first_detection_gap with an active wrong-assumption guard is not analysed yet"
+    )]
+    OcclusionWithWrongAssumption,
 }
 
 /// When the analyser extracts and replays a worst-case witness.
@@ -124,6 +130,10 @@ pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
 pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, AnalysisError> {
     if problem.environment.initial_gap.is_range() {
         return Err(AnalysisError::GapRange);
+    }
+    let params = problem.params::<Exact>();
+    if params.d_det.is_some() && params.wrong_assumption_active() {
+        return Err(AnalysisError::OcclusionWithWrongAssumption);
     }
     let dec = Decomposition::new(problem);
     let mut solved = 0;

@@ -251,10 +251,11 @@ impl Decomposition {
     /// above: their rows from the first sighting on are the visible schedule's, and a
     /// visible start is the weaker constraint; see docs/semantics.md §12.)
     fn list_detected_pieces(&mut self, merge_at: Option<usize>) {
-        let mut endings = vec![Ending::Danger];
-        if self.params.wrong_assumption_active() {
-            endings.push(Ending::WrongAssumption);
-        }
+        // First seen already passed (a true gap in [d_det, σ_g] seen ≤ 0) is a pass-through
+        // no visible piece holds: its earlier rows are hidden. (The wrong-assumption guard
+        // with occlusion is refused by validation: a hidden obstacle inside the area is not
+        // bound by V_a, which the in-area pieces assume.)
+        let endings = [Ending::Danger, Ending::PassThrough];
         let l = self.params.L;
         let last = merge_at.unwrap_or(self.last_brake);
         let before = self.pieces.len();

@@ -264,6 +264,11 @@ fn an_exhaustive_search_over_late_sightings_never_beats_the_analyser() {
         if let Some(s) = p.sensing.as_mut() {
             s.first_detection_gap = Some(0.3);
         }
+        if p.validate("test").is_err() {
+            // Occlusion with an active wrong-assumption guard is refused (not analysed yet).
+            assert!(analyse(&p).is_err());
+            continue;
+        }
         let a = analyse(&p).expect("analyses");
         let w = p.params::<Exact>().W;
         let speeds = [Exact::ZERO, w.clone() / Exact::from(2), w];
