@@ -131,8 +131,7 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
     if problem.environment.initial_gap.is_range() {
         return Err(AnalysisError::GapRange);
     }
-    let params = problem.params::<Exact>();
-    if params.d_det.is_some() && params.wrong_assumption_active() {
+    if problem.params::<Exact>().occlusion_unanalysed() {
         return Err(AnalysisError::OcclusionWithWrongAssumption);
     }
     let dec = Decomposition::new(problem);
@@ -480,14 +479,7 @@ fn replay_witness(
     let params = &dec.params;
     let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
     speeds.resize(max_steps, quantised(&params.W));
-    let aim = simulate::Aim {
-        react_at: piece.has_objective().then_some(piece.brake + shift),
-        hidden_until: if piece.detected {
-            piece.brake + shift
-        } else {
-            0
-        },
-    };
+    let aim = crate::proof::verdict::aim(&piece, shift);
     let replay =
         simulate::replay_reacting_at(params, &speeds, aim, max_steps, !piece.has_objective());
     speeds.truncate(replay.periods());

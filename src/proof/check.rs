@@ -38,8 +38,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
              a range is certified by a scene search certificate",
         );
     }
-    let params = cert.problem.params::<Exact>();
-    if params.d_det.is_some() && params.wrong_assumption_active() {
+    if cert.problem.params::<Exact>().occlusion_unanalysed() {
         return invalid(
             "the problem hides obstacles (first_detection_gap) with an active wrong-assumption \
              guard, which no certificate covers yet",

@@ -58,21 +58,23 @@ impl Witness {
     /// step; None for a pass-through, which never lets it): with noisy sensing the replay
     /// picks each observation's error by it ([`crate::core::simulate::run_reacting_at`]).
     pub fn react_at(&self) -> Option<usize> {
-        self.piece
-            .has_objective()
-            .then(|| self.piece.brake + self.shift)
+        aim(&self.piece, self.shift).react_at
     }
 
     /// What the environment aims at in its replay: [`Witness::react_at`], and for a piece
     /// first seen at its brake step (occlusion) the obstacle hidden until then.
     pub fn aim(&self) -> crate::core::simulate::Aim {
-        crate::core::simulate::Aim {
-            react_at: self.react_at(),
-            hidden_until: if self.piece.detected {
-                self.piece.brake + self.shift
-            } else {
-                0
-            },
-        }
+        aim(&self.piece, self.shift)
+    }
+}
+
+/// What the environment aims at when it replays a behaviour of `piece` shifted by `shift`
+/// steps: it lets the robot react from the brake step (never, for a pass-through), and for a
+/// piece first seen at its brake step (occlusion) hides the obstacle until then.
+pub fn aim(piece: &Piece, shift: usize) -> crate::core::simulate::Aim {
+    let t = piece.brake + shift;
+    crate::core::simulate::Aim {
+        react_at: piece.has_objective().then_some(t),
+        hidden_until: if piece.detected { t } else { 0 },
     }
 }

@@ -67,10 +67,11 @@ impl Problem {
     /// in-area steps assumes; refused until it is analysed.
     fn occlusion_violation(&self) -> Option<Violation> {
         let d_det = self.first_detection_gap()?;
-        let guard_active = self.controller.wrong_assumption_brake
-            && self.environment.obstacle_speed + self.speed_noise()
-                > self.controller.assumed_obstacle_speed;
-        guard_active.then(|| Violation {
+        // Decided in exact decimals, as the analysis decides it.
+        let refused = self
+            .params::<crate::core::num::Exact>()
+            .occlusion_unanalysed();
+        refused.then(|| Violation {
             key: "sensing.first_detection_gap",
             value: show_number(d_det),
             reason: "occlusion is not analysed yet together with an active wrong-assumption \
