@@ -112,6 +112,9 @@ pub enum WitnessPolicy {
     /// certified answer then reports s* as the least piece optimum, unreplayed — what sweeps
     /// and boundary searches want, at a fraction of the cost.
     ToRefute,
+    /// Never: the verdict is `certified` or `inconclusive` (nothing replayed can refute),
+    /// for callers that ask only whether a point certifies.
+    Never,
 }
 
 /// Analysis options.
@@ -149,7 +152,12 @@ pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, Ana
     let params: Params<Exact> = dec.params.clone();
     let (mut lower_bound, mut certified) = least_bound(&outcomes, &params);
     let candidates = worst_case_candidates(&outcomes);
-    let realised = if certified && options.witness == WitnessPolicy::ToRefute {
+    let unreplayed = match options.witness {
+        WitnessPolicy::Always => false,
+        WitnessPolicy::ToRefute => certified,
+        WitnessPolicy::Never => true,
+    };
+    let realised = if unreplayed {
         Realised {
             min_separation: candidates.first().map(|c| c.0),
             ..Realised::default()

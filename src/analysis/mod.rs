@@ -6,6 +6,8 @@ mod certify;
 pub mod lp;
 mod monte_carlo;
 pub mod radius;
+pub mod region;
+pub mod region_search;
 pub mod report;
 pub mod scene;
 pub mod scene_answer;

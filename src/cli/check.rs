@@ -21,6 +21,11 @@ pub struct CheckArgs {
 /// Runs `safereach check`: exit 0 valid, 1 invalid.
 pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
     let path = &args.certificate;
+    if let Ok(text) = std::fs::read_to_string(path)
+        && super::region::is_map(&text)
+    {
+        return super::region::check_file(path, &text, out);
+    }
     let cert = input::any_certificate(path, Unreadable::Reading)?;
     match cert.check() {
         Ok(report) => {

@@ -24,6 +24,7 @@ mod max_speed;
 mod monitor;
 mod output;
 mod radius;
+mod region;
 mod report;
 mod scene_certify;
 mod scene_simulate;
@@ -57,6 +58,8 @@ enum Command {
     Radius(radius::RadiusArgs),
     /// The largest certified obstacle speed bound for the reaction radius (exit 1 if none).
     MaxSpeed(max_speed::MaxSpeedArgs),
+    /// One proof for a whole box of parameters, or a certified map of it (exit 0 all certified, 1 some leaf refuted, 3 some undecided).
+    Region(region::RegionArgs),
     /// Analyse a grid of problems in parallel (JSON Lines + CSV into --out).
     Sweep(sweep::SweepArgs),
     /// Regenerate reports (Markdown + SVG) from grids, or merge sweep shards into them.
@@ -96,6 +99,7 @@ fn run(command: Command, out: &mut Output) -> anyhow::Result<Exit> {
         Command::Simulate(args) => simulate::run(args, out),
         Command::Radius(args) => radius::run(args, out),
         Command::MaxSpeed(args) => max_speed::run(args, out),
+        Command::Region(args) => region::run(args, out),
         Command::Sweep(args) => sweep::run(args, out),
         Command::Report(args) => report::run(args, out),
         Command::Monitor(args) => monitor::run(args, out),

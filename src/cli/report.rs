@@ -79,7 +79,8 @@ fn shipped_grids() -> Result<Vec<PathBuf>> {
 /// Markdown file's path.
 fn write_report(grid: &Grid, results: &[CellResult], dir: &Path) -> Result<PathBuf> {
     let curve = report::radius_curve(grid).map_err(anyhow::Error::msg)?;
-    let rep = report::grid_report(grid, results, &curve);
+    let map = report::certified_map(grid).map_err(anyhow::Error::msg)?;
+    let rep = report::grid_report(grid, results, &curve, map.as_ref());
     let md = dir.join(format!("{}.md", grid.name));
     write_file(&md, rep.markdown.as_bytes())?;
     for (name, svg) in &rep.figures {

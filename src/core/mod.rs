@@ -4,6 +4,7 @@
 pub mod model;
 pub mod num;
 pub mod output;
+pub mod param_box;
 pub mod parameter;
 pub mod rational;
 pub mod scene;

@@ -1,6 +1,6 @@
 //! The problem's named parameters, and numbers that are affine in them.
 //!
-//! W, ρ, V_a, the buffer, the initial gap and the clearance enter a piece's program only
+//! W, ρ, V_a, the buffer, the initial gap, the clearance and the noise bounds enter a piece's program only
 //! through right-hand sides, variable bounds and the objective's constant — never through
 //! its matrix. A [`ParamAffine`] carries such a number together with its exact partial
 //! derivatives in those parameters, so that a bound proved by fixed dual multipliers is an
@@ -15,7 +15,7 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use serde::{Deserialize, Serialize};
 
-use crate::core::model::Params;
+use crate::core::model::{Params, Position, Problem, Sensing};
 use crate::core::num::{Exact, Scalar, exact_decimal};
 
 /// A parameter that programs depend on affinely.
@@ -34,17 +34,23 @@ pub enum Parameter {
     InitialGap,
     /// `robot.clearance` (m); enters only the margin s* − clearance.
     Clearance,
+    /// σ_g, `sensing.gap_noise` (m).
+    GapNoise,
+    /// σ_w, `sensing.speed_noise` (m/s).
+    SpeedNoise,
 }
 
 impl Parameter {
     /// Every parameter, in a fixed order.
-    pub const ALL: [Parameter; 6] = [
+    pub const ALL: [Parameter; 8] = [
         Parameter::ObstacleSpeed,
         Parameter::ReactionRadius,
         Parameter::AssumedObstacleSpeed,
         Parameter::Buffer,
         Parameter::InitialGap,
         Parameter::Clearance,
+        Parameter::GapNoise,
+        Parameter::SpeedNoise,
     ];
 
     /// The problem-file key that sets it.
@@ -56,6 +62,92 @@ impl Parameter {
             Parameter::Buffer => "controller.buffer",
             Parameter::InitialGap => "environment.initial_gap",
             Parameter::Clearance => "robot.clearance",
+            Parameter::GapNoise => "sensing.gap_noise",
+            Parameter::SpeedNoise => "sensing.speed_noise",
+        }
+    }
+
+    /// The parameter a problem-file key sets, if it is one.
+    pub fn from_key(key: &str) -> Option<Parameter> {
+        Parameter::ALL.into_iter().find(|p| p.key() == key)
+    }
+
+    /// Its unit, for messages and plots.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Parameter::ObstacleSpeed | Parameter::AssumedObstacleSpeed | Parameter::SpeedNoise => {
+                "m/s"
+            }
+            _ => "m",
+        }
+    }
+
+    /// Its symbol, for plots.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Parameter::ObstacleSpeed => "W",
+            Parameter::ReactionRadius => "ρ",
+            Parameter::AssumedObstacleSpeed => "V_a",
+            Parameter::Buffer => "buffer",
+            Parameter::InitialGap => "g0",
+            Parameter::Clearance => "clearance",
+            Parameter::GapNoise => "σ_g",
+            Parameter::SpeedNoise => "σ_w",
+        }
+    }
+
+    /// Sets it in exact problem numbers (the initial gap: both ends, a point problem).
+    pub fn set(self, p: &mut Params<Exact>, value: Exact) {
+        match self {
+            Parameter::ObstacleSpeed => p.W = value,
+            Parameter::ReactionRadius => p.rho = value,
+            Parameter::AssumedObstacleSpeed => p.V_a = value,
+            Parameter::Buffer => p.buffer = value,
+            Parameter::InitialGap => {
+                p.g0_max = value.clone();
+                p.g0 = value;
+            }
+            Parameter::Clearance => p.clearance = value,
+            Parameter::GapNoise => p.sigma_g = value,
+            Parameter::SpeedNoise => p.sigma_w = value,
+        }
+    }
+
+    /// Its value in a problem file (the initial gap's nearest end).
+    pub fn get_in(self, problem: &Problem) -> f64 {
+        match self {
+            Parameter::ObstacleSpeed => problem.environment.obstacle_speed,
+            Parameter::ReactionRadius => problem.controller.reaction_radius,
+            Parameter::AssumedObstacleSpeed => problem.controller.assumed_obstacle_speed,
+            Parameter::Buffer => problem.controller.buffer,
+            Parameter::InitialGap => problem.environment.initial_gap.min(),
+            Parameter::Clearance => problem.robot.clearance,
+            Parameter::GapNoise => problem.gap_noise(),
+            Parameter::SpeedNoise => problem.speed_noise(),
+        }
+    }
+
+    /// Sets it in a problem file (the initial gap becomes a point).
+    pub fn set_in(self, problem: &mut Problem, value: f64) {
+        match self {
+            Parameter::ObstacleSpeed => problem.environment.obstacle_speed = value,
+            Parameter::ReactionRadius => problem.controller.reaction_radius = value,
+            Parameter::AssumedObstacleSpeed => problem.controller.assumed_obstacle_speed = value,
+            Parameter::Buffer => problem.controller.buffer = value,
+            Parameter::InitialGap => problem.environment.initial_gap = Position::At(value),
+            Parameter::Clearance => problem.robot.clearance = value,
+            Parameter::GapNoise => {
+                problem
+                    .sensing
+                    .get_or_insert_with(Sensing::default)
+                    .gap_noise = Some(value);
+            }
+            Parameter::SpeedNoise => {
+                problem
+                    .sensing
+                    .get_or_insert_with(Sensing::default)
+                    .speed_noise = Some(value);
+            }
         }
     }
 
@@ -68,6 +160,8 @@ impl Parameter {
             Parameter::Buffer => &p.buffer,
             Parameter::InitialGap => &p.g0,
             Parameter::Clearance => &p.clearance,
+            Parameter::GapNoise => &p.sigma_g,
+            Parameter::SpeedNoise => &p.sigma_w,
         }
     }
 }
@@ -269,9 +363,8 @@ pub fn symbolic(p: &Params<Exact>) -> Params<ParamAffine> {
         } else {
             s(Parameter::InitialGap)
         },
-        // Noise bounds are not named parameters yet (issue 11 names them).
-        sigma_g: c(&p.sigma_g),
-        sigma_w: c(&p.sigma_w),
+        sigma_g: s(Parameter::GapNoise),
+        sigma_w: s(Parameter::SpeedNoise),
         d_det: p.d_det.as_ref().map(c),
         k: p.k.map(&c),
     }

@@ -80,7 +80,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::core::model::{Params, Problem};
 use crate::core::num::{Exact, Scalar};
-use crate::core::parameter::{ParamAffine, symbolic};
+use crate::core::param_box::ParamBox;
+use crate::core::parameter::{ParamAffine, Parameter, symbolic};
 use crate::core::rational::Rational;
 use crate::core::semantics::{Mode, RobotState, danger_distance, robot_motion};
 use crate::proof::program::{Program, Row, Var};
@@ -157,6 +158,10 @@ pub struct Decomposition {
     pub pieces: Vec<Piece>,
     /// Time and distance to stop when braking from v_max (shared by every cruising piece).
     cruise_stop: (Exact, Exact),
+    /// For a region certificate, the box of parameter values the pieces must cover: every
+    /// decision that depends on a named parameter is then made for the whole box
+    /// ([`crate::proof::region_schedule`]); `params` is the box's centre.
+    pub(crate) region: Option<ParamBox>,
 }
 
 /// Time and distance the robot needs to stop when it brakes from speed `v`, by iterating the
@@ -215,6 +220,17 @@ impl Decomposition {
     /// merged over shifts only when `merge` allows it and the limit cuts none of them: a
     /// merged piece stands for every later shift up to `last_brake`.
     pub fn from_params_until(params: Params<Exact>, limit: Option<usize>, merge: bool) -> Self {
+        Self::build(params, limit, merge, None)
+    }
+
+    /// The decomposition at `params`, or for every point of `region` (then `params` is its
+    /// centre).
+    pub(crate) fn build(
+        params: Params<Exact>,
+        limit: Option<usize>,
+        merge: bool,
+        region: Option<ParamBox>,
+    ) -> Self {
         let profile = drive_profile(&params);
         let mut d = Decomposition {
             cruise_stop: stopping(&params, params.v_max.clone()),
@@ -224,6 +240,7 @@ impl Decomposition {
             first_brake: 0,
             last_brake: 0,
             pieces: Vec::new(),
+            region,
         };
         d.find_brake_range();
         let cut = limit.filter(|&t| t.saturating_add(1) < d.last_brake);
@@ -235,7 +252,7 @@ impl Decomposition {
         } else {
             d.merge_step()
         };
-        if d.params.wrong_assumption_active() {
+        if d.wrong_assumption_active() {
             d.list_in_area_pieces(merge_at);
         } else {
             d.list_pieces(merge_at);
@@ -273,7 +290,18 @@ impl Decomposition {
     /// Sets `first_brake` (before it even the fastest obstacle is observed outside ρ) and
     /// `last_brake` (from it on the robot alone has reached the obstacle's start).
     fn find_brake_range(&mut self) {
-        let p = self.params.clone();
+        (self.first_brake, self.last_brake) = match &self.region {
+            None => self.brake_range(&self.params),
+            Some(_) => (
+                self.brake_range(&self.earliest_reach_corner()).0,
+                self.brake_range(&self.farthest_start_corner()).1,
+            ),
+        };
+    }
+
+    /// (first_brake, last_brake) at the point `p` (whose robot is this decomposition's).
+    fn brake_range(&self, p: &Params<Exact>) -> (usize, usize) {
+        let p = p.clone();
         let per_step = p.v_max.clone() * p.dt.clone();
         // n_end: first gap index the robot alone reaches the obstacle's farthest start
         // (g0_max − P ≤ 0).
@@ -299,20 +327,21 @@ impl Decomposition {
             },
             far / closing,
         );
-        self.first_brake = n_start + p.L;
-        self.last_brake = n_end + 1 + p.L;
+        (n_start + p.L, n_end + 1 + p.L)
     }
 
     /// The brake step from which shifted pieces merge (cruising, and the boxes of
     /// consecutive shifts overlap), if it comes before `last_brake`.
     fn merge_step(&self) -> Option<usize> {
         let p = &self.params;
-        if p.W <= Exact::ZERO {
+        // (Over a box: its slowest obstacle needs the longest anchor.)
+        let w = self.least(Parameter::ObstacleSpeed);
+        if w <= Exact::ZERO {
             return None;
         }
         // Anchors sit at T−1−L, or T−2−L for the entries E = T−1 and E ≤ T−2.
-        let reach = if p.wrong_assumption_active() { 2 } else { 1 };
-        let need = usize::try_from((p.v_max.clone() / p.W.clone()).ceil()).unwrap_or(usize::MAX);
+        let reach = if self.wrong_assumption_active() { 2 } else { 1 };
+        let need = usize::try_from((p.v_max.clone() / w).ceil()).unwrap_or(usize::MAX);
         let t = self
             .cruise_from
             .max(need)
@@ -345,7 +374,7 @@ impl Decomposition {
         // overlap (see `fastest_approach`); until then they are listed one by one.
         let early_merge_at = merge_at.and_then(|t0| {
             let need = self.params.v_max.clone() * self.params.dt.clone();
-            self.first_fast_cover(t0 - 2 - l, &need)
+            self.first_fast_cover(&self.slowest_approach_corner(), t0 - 2 - l, &need)
                 .map(|m| m + 2 + l)
                 .filter(|&t| t < self.last_brake)
         });
@@ -398,7 +427,7 @@ impl Decomposition {
             early,
             detected: false,
         };
-        if !self.params.wrong_assumption_active() || t <= l {
+        if !self.wrong_assumption_active() || t <= l {
             return vec![piece(None, false)];
         }
         let first = self.first_brake.max(l);
@@ -443,9 +472,11 @@ impl Decomposition {
     fn in_area_possible(&self, e: usize, t: usize) -> bool {
         let l = self.params.L;
         let closed = self.position(t - 1 - l) - self.position(e - l);
-        match danger_distance(&self.params, &self.drive(t - 1).speed) {
+        // (Over a box: possible at some point, the widest area with the least danger.)
+        let p = self.widest_area_corner();
+        match danger_distance(&p, &self.drive(t - 1).speed) {
             None => false,
-            Some(d) => self.params.rho.clone() - closed > d,
+            Some(d) => p.rho.clone() - closed > d,
         }
     }
 
@@ -574,7 +605,7 @@ impl Decomposition {
             -s.sigma_g.clone()
         } else if piece.early {
             // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
-            self.fastest_approach_affine(s, m).1
+            self.early_lowest_gap(s, m)
         } else {
             // ... to the nearest start with the obstacle at W throughout.
             s.g0.clone()
@@ -628,7 +659,7 @@ impl Decomposition {
             // within ±σ to give the observation its row asks for (see the module docs).
             None => {
                 if t > l {
-                    let theta = min_opt(&s.rho, self.danger(s, t - 1));
+                    let theta = self.no_fire_threshold(s, self.danger(s, t - 1));
                     above(
                         rows,
                         format!("o[{}] > min(rho, d_coll)", t - 1),
@@ -662,7 +693,7 @@ impl Decomposition {
                         &gap(t - 1 - l),
                         dk - sg.clone(),
                     );
-                    let seen_slow = slowest_fast(s);
+                    let seen_slow = self.in_area_speed_limit(s);
                     for k in e..t {
                         if k > l + m {
                             vars[1 + (k - l - 1) - m].upper = seen_slow.clone();
@@ -689,13 +720,9 @@ impl Decomposition {
             Ending::Danger | Ending::WrongAssumption => {
                 above(rows, format!("o[{t}] > 0"), g_n, -sg.clone());
                 if piece.ending == Ending::Danger {
-                    let theta = min_opt(&s.rho, self.danger(s, t));
-                    at_most(
-                        rows,
-                        format!("o[{t}] <= min(rho, d_coll)"),
-                        g_n,
-                        theta + sg.clone(),
-                    );
+                    for (theta, name) in self.fire_thresholds(s, self.danger(s, t)) {
+                        at_most(rows, format!("o[{t}] <= {name}"), g_n, theta + sg.clone());
+                    }
                 } else {
                     at_most(
                         rows,
@@ -743,7 +770,7 @@ impl Decomposition {
 
     /// [`Decomposition::fastest_approach`] with its numbers affine in the parameters (each
     /// step's branch is the one taken at the problem's values).
-    fn fastest_approach_affine(
+    pub(crate) fn fastest_approach_affine(
         &self,
         s: &Params<ParamAffine>,
         m: usize,
@@ -761,11 +788,10 @@ impl Decomposition {
     }
 
     /// The first anchor m ≥ `from` at which the fastest approach (see
-    /// [`Decomposition::fastest_approach`]) has covered at least `need`, if any before the
-    /// robot alone reaches the obstacle's start.
-    fn first_fast_cover(&self, from: usize, need: &Exact) -> Option<usize> {
-        let s = symbolic(&self.params);
-        let p = &self.params;
+    /// [`Decomposition::fastest_approach`]) at the point `p` has covered at least `need`, if
+    /// any before the robot alone reaches the obstacle's start.
+    fn first_fast_cover(&self, p: &Params<Exact>, from: usize, need: &Exact) -> Option<usize> {
+        let s = symbolic(p);
         let end = self.last_brake;
         let mut gap = s.g0.clone();
         for j in 0..end {
@@ -812,13 +838,13 @@ impl Decomposition {
 
 /// The fastest speed an obstacle inside the area may have without the wrong-assumption
 /// guard firing for every error: min(W, V_a + σ_w).
-fn slowest_fast(s: &Params<ParamAffine>) -> ParamAffine {
+pub(crate) fn slowest_fast(s: &Params<ParamAffine>) -> ParamAffine {
     let seen = s.V_a.clone() + s.sigma_w.clone();
     if seen > s.W { s.W.clone() } else { seen }
 }
 
 /// min(ρ, d), with d = None standing for ∞ (the `area` rule).
-fn min_opt(rho: &ParamAffine, d: Option<ParamAffine>) -> ParamAffine {
+pub(crate) fn min_opt(rho: &ParamAffine, d: Option<ParamAffine>) -> ParamAffine {
     match d {
         Some(d) if d < *rho => d,
         _ => rho.clone(),

@@ -21,6 +21,7 @@ mod monitor_real;
 mod monitor_scene;
 mod noise;
 mod radius;
+mod region;
 mod scene_analysis;
 mod scene_cli;
 mod scene_explore;

@@ -1,5 +1,6 @@
-//! The Markdown page of a sweep: header and axes, the figures, the table of cells, the
-//! safe-radius table, a scene's worst cases and the findings, in that order.
+//! The Markdown page of a sweep: header and axes, the figures (with the certified map of the
+//! (W, ρ) plane where the grid spans one), the table of cells, the safe-radius table, a
+//! scene's worst cases and the findings, in that order.
 
 use std::fmt::Write as _;
 
@@ -7,21 +8,32 @@ use super::axes::{AxisLabel, Slice, heat_map_axes, in_slice, label, slices};
 use super::cells::{axis_value, collisions_per_runs, fmt_opt, separation};
 use super::findings::{findings, scene_worst_cases};
 use super::heat_map::HeatMap;
+use super::region_plot::{self, PointCell};
 use super::{ASSUMED_KEY, Curve, Report};
 use super::{curve_plot::curve_plot, heat_map::heat_map};
 use crate::analysis::sweep::{CellResult, Grid};
 use crate::core::model::Problem;
 use crate::core::scene::Scene;
+use crate::proof::region_map::RegionMap;
 
 /// Most heat maps one report draws (one per slice of the axes they do not span).
 const MAX_MAPS: usize = 12;
 
-/// Builds the report of a grid from its (complete, ordered) cell results and curve.
-pub fn grid_report(grid: &Grid, results: &[CellResult], curve: &Curve) -> Report {
+/// Builds the report of a grid from its (complete, ordered) cell results, curve and, for a
+/// grid over W and ρ, the certified map of that plane.
+pub fn grid_report(
+    grid: &Grid,
+    results: &[CellResult],
+    curve: &Curve,
+    map: Option<&RegionMap>,
+) -> Report {
     let mut md = String::new();
     write_header(&mut md, grid, results.len());
     let assumed = assumed_speed(grid, results);
-    let figures = write_figures(&mut md, grid, results, curve, assumed);
+    let mut figures = write_figures(&mut md, grid, results, curve, assumed);
+    if let Some(map) = map {
+        figures.push(write_certified_map(&mut md, grid, results, map));
+    }
     write_table(&mut md, grid, results);
     write_curve_table(&mut md, grid, curve);
     if grid.scene {
@@ -39,6 +51,45 @@ pub fn grid_report(grid: &Grid, results: &[CellResult], curve: &Curve) -> Report
         markdown: md,
         figures,
     }
+}
+
+/// The certified map's section: what it covers and its figure, the cells as dots.
+fn write_certified_map(
+    md: &mut String,
+    grid: &Grid,
+    results: &[CellResult],
+    map: &RegionMap,
+) -> (String, String) {
+    let (w, rho) = (&map.ranges[0], &map.ranges[1]);
+    let cells: Vec<PointCell> = results
+        .iter()
+        .filter_map(|r| {
+            let x = r.axes.get(super::SPEED_KEY)?.as_f64()?;
+            let y = r.axes.get(super::RADIUS_KEY)?.as_f64()?;
+            Some((x, y, r.verdict))
+        })
+        .collect();
+    let file = format!("{}-region.svg", grid.name);
+    let _ = writeln!(md, "\n## Certified map of the plane\n");
+    let _ = writeln!(
+        md,
+        "Not just the {} cells: every point of W ∈ [{}, {}] m/s × ρ ∈ [{}, {}] m, one proof per \
+         leaf (`safereach region`, depth ≤ {}; `safereach check` verifies the map). **Certified: \
+         {:.1}% of the plane**; refuted {:.1}% (each such leaf names a colliding point, and none \
+         of its corners certifies); undecided {:.1}% (leaves along the boundary at the depth \
+         limit). The dots are the grid's cells, coloured by their own verdicts.\n",
+        cells.len(),
+        w.lo,
+        w.hi,
+        rho.lo,
+        rho.hi,
+        map.depth,
+        100.0 * map.coverage.certified,
+        100.0 * map.coverage.refuted,
+        100.0 * map.coverage.undecided,
+    );
+    let _ = writeln!(md, "![certified map of the (W, ρ) plane]({file})\n");
+    (file, region_plot::svg_with_points(map, &cells))
 }
 
 /// The obstacle speed-bound axis the findings read W from: W, or the first scene

@@ -10,18 +10,22 @@
 //! and names the worst cases, `heat_map` and `curve_plot` draw the figures with the small
 //! writer in `svg` and the verdict colours in `palette`; `axes` labels the axes and picks a
 //! heat map's two, `curve` computes ρ*(W); `cells` reads and prints one cell's values for
-//! all of them.
+//! all of them; `certified_map` maps the (W, ρ) plane with region certificates and
+//! `region_plot` draws a region map.
 
 mod axes;
 mod cells;
+mod certified_map;
 mod curve;
 mod curve_plot;
 mod findings;
 mod heat_map;
 mod markdown;
 mod palette;
+pub mod region_plot;
 mod svg;
 
+pub use certified_map::certified_map;
 pub use curve::{Curve, radius_curve};
 pub use markdown::grid_report;
 

@@ -73,6 +73,23 @@ impl Svg {
         );
     }
 
+    /// A filled rectangle at fractional coordinates (one decimal); `attrs` as for
+    /// [`Svg::rect`].
+    pub(super) fn area(
+        &mut self,
+        x: f64,
+        y: f64,
+        width: f64,
+        height: f64,
+        fill: &str,
+        attrs: &str,
+    ) {
+        let _ = writeln!(
+            self.out,
+            "<rect x=\"{x:.1}\" y=\"{y:.1}\" width=\"{width:.1}\" height=\"{height:.1}\" fill=\"{fill}\"{attrs}/>"
+        );
+    }
+
     /// A path with data `d`; `attrs` (each with a leading space) give its stroke and fill.
     pub(super) fn path(&mut self, d: &str, attrs: &str) {
         let _ = writeln!(self.out, "<path d=\"{d}\"{attrs}/>");

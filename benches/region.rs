@@ -1,0 +1,106 @@
+//! Benchmark: the certified map of the seed plane W ∈ [0.10, 0.30] m/s × ρ ∈ [1.0, 1.6] m
+//! (issue target: undecided ≤ 1% of the plane, ≤ 1 s on 2 cores), against a point sweep of
+//! the same resolution (one cell per smallest leaf's width and height) measured in the same
+//! run. Run with `cargo bench --bench region`.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use safereach::analysis::region_search::{RegionOptions, map_region};
+use safereach::analysis::{Options, Verdict, WitnessPolicy, analyse_with};
+use safereach::core::model::Problem;
+use safereach::core::param_box::{Axis, ParamBox};
+use safereach::core::parameter::Parameter;
+use safereach::proof::region_check::check_map;
+use safereach::proof::region_map::{LeafVerdict, box_at};
+
+fn main() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let seed = Problem::load(&root.join("problems/seed.toml")).expect("the seed loads");
+    let whole = ParamBox::new(vec![
+        Axis {
+            parameter: Parameter::ObstacleSpeed,
+            lo: 0.10,
+            hi: 0.30,
+        },
+        Axis {
+            parameter: Parameter::ReactionRadius,
+            lo: 1.0,
+            hi: 1.6,
+        },
+    ])
+    .expect("a valid box");
+    for depth in [12, 14, 16] {
+        let options = RegionOptions {
+            depth,
+            min_width: 0.0,
+        };
+        let start = Instant::now();
+        let map = map_region(&seed, &whole, &options, &|_| {}).expect("maps");
+        let took = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        check_map(&map).expect("the map checks");
+        let checked = start.elapsed().as_secs_f64();
+        let count = |v| map.leaves.iter().filter(|l| l.verdict == v).count();
+        println!(
+            "region depth {depth}: {:.2} s on {} threads, check {:.2} s; {} leaves ({} certified, {} refuted, {} undecided), {} programs solved; area certified {:.2}%, refuted {:.2}%, undecided {:.2}%",
+            took,
+            rayon::current_num_threads(),
+            checked,
+            map.leaves.len(),
+            count(LeafVerdict::Certified),
+            count(LeafVerdict::Refuted),
+            count(LeafVerdict::Undecided),
+            map.programs_solved,
+            100.0 * map.coverage.certified,
+            100.0 * map.coverage.refuted,
+            100.0 * map.coverage.undecided,
+        );
+        if depth != 16 {
+            continue;
+        }
+        // A point sweep as fine as the map's smallest leaves.
+        let (mut dw, mut dr) = (f64::INFINITY, f64::INFINITY);
+        for l in &map.leaves {
+            let b = box_at(&whole, &l.path).expect("a path the search made");
+            dw = dw.min(b.axes[0].hi - b.axes[0].lo);
+            dr = dr.min(b.axes[1].hi - b.axes[1].lo);
+        }
+        let nw = (0.2 / dw).ceil() as usize;
+        let nr = (0.6 / dr).ceil() as usize;
+        let cells: Vec<(f64, f64)> = (0..nw)
+            .flat_map(|i| {
+                (0..nr).map(move |j| {
+                    (
+                        0.10 + 0.2 * (i as f64 + 0.5) / nw as f64,
+                        1.0 + 0.6 * (j as f64 + 0.5) / nr as f64,
+                    )
+                })
+            })
+            .collect();
+        let start = Instant::now();
+        let certified = cells
+            .par_iter()
+            .filter(|(w, r)| {
+                let mut p = seed.clone();
+                p.environment.obstacle_speed = *w;
+                p.controller.reaction_radius = *r;
+                let options = Options {
+                    witness: WitnessPolicy::ToRefute,
+                };
+                analyse_with(&p, options).is_ok_and(|a| a.verdict == Verdict::Certified)
+            })
+            .count();
+        let sweep = start.elapsed().as_secs_f64();
+        println!(
+            "point sweep at the finest leaves' resolution: {} x {} = {} cells in {:.2} s ({} certified; a statement about {} points only); ratio sweep/region = {:.1}x",
+            nw,
+            nr,
+            cells.len(),
+            sweep,
+            certified,
+            cells.len(),
+            sweep / took
+        );
+    }
+}

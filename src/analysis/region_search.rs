@@ -1,0 +1,313 @@
+//! Certified maps of the design space: a box that does not certify is halved, down to a
+//! depth, and every leaf ends certified, refuted or undecided ([`RegionMap`]).
+//!
+//! **Splitting**: the axis widest relative to its range in the whole box is halved. The
+//! halves first try the proofs their parent found for the same pieces; a proof that
+//! failed over the parent often holds over a half, with no solver call.
+//!
+//! **Refuted leaves**: a box that does not certify is analysed at its corners (neighbouring
+//! boxes share them, so each is analysed once) and, when no corner certifies, at its centre;
+//! a refuted centre (a colliding behaviour, replayed exactly) makes the box a refuted leaf
+//! naming that behaviour. The corners are a guard against a leaf straddling the boundary,
+//! not a claim: only the centre is checked.
+
+use std::collections::BTreeMap;
+use std::sync::Mutex;
+
+use rustc_hash::FxHashMap;
+
+use rayon::prelude::*;
+
+use crate::analysis::analyse::{AnalysisError, Options, WitnessPolicy, analyse_with};
+use crate::analysis::region::{Hints, certify_box};
+use crate::core::model::Problem;
+use crate::core::num::f64_at_most;
+use crate::core::param_box::ParamBox;
+use crate::proof::region_check::refusal;
+use crate::proof::region_map::{
+    Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, path_letter,
+    volume_fraction,
+};
+use crate::proof::verdict::Verdict;
+
+/// How far the search may split.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RegionOptions {
+    /// Most splits on the way from the whole box to a leaf.
+    pub depth: u32,
+    /// An axis narrower than this fraction of its whole range is not split again (0: no
+    /// limit but the depth).
+    pub min_width: f64,
+}
+
+impl Default for RegionOptions {
+    fn default() -> Self {
+        RegionOptions {
+            depth: 12,
+            min_width: 0.0,
+        }
+    }
+}
+
+/// Why a box cannot be mapped.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RegionError {
+    /// The problem or the box is one region certificates do not cover.
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// A box waiting to be decided.
+struct Task {
+    b: ParamBox,
+    path: String,
+    hints: Hints,
+}
+
+/// What the analysis says at points (keyed by their ranged values' bits): neighbouring
+/// boxes share corners.
+#[derive(Default)]
+struct Corners(Mutex<FxHashMap<Vec<u64>, Verdict>>);
+
+/// What deciding one box gave: a leaf, or two halves to decide.
+enum Decided {
+    Leaf(Leaf, usize),
+    Split(Task, Task, usize),
+}
+
+/// Maps `problem` over `whole` (a valid, point-start problem). `on_decided` is told the
+/// fraction of the box each leaf covers as leaves are found (for progress bars).
+pub fn map_region(
+    problem: &Problem,
+    whole: &ParamBox,
+    options: &RegionOptions,
+    on_decided: &(dyn Fn(f64) + Sync),
+) -> Result<RegionMap, RegionError> {
+    if let Some(reason) = refusal(problem, whole) {
+        return Err(RegionError::Refused(reason));
+    }
+    let mut level = vec![Task {
+        b: whole.clone(),
+        path: String::new(),
+        hints: Hints::default(),
+    }];
+    let mut leaves = Vec::new();
+    let mut solved = 0;
+    let corners = Corners::default();
+    while !level.is_empty() {
+        let decided: Vec<Decided> = level
+            .into_par_iter()
+            .map(|task| decide(problem, whole, task, options, &corners, on_decided))
+            .collect();
+        level = Vec::new();
+        for d in decided {
+            match d {
+                Decided::Leaf(leaf, n) => {
+                    solved += n;
+                    leaves.push(leaf);
+                }
+                Decided::Split(low, high, n) => {
+                    solved += n;
+                    level.push(low);
+                    level.push(high);
+                }
+            }
+        }
+    }
+    leaves.sort_by(|a, b| a.path.cmp(&b.path));
+    let mut coverage = Coverage::default();
+    for leaf in &leaves {
+        let b = crate::proof::region_map::box_at(whole, &leaf.path).expect("paths the search made");
+        let share = volume_fraction(whole, &b);
+        match leaf.verdict {
+            LeafVerdict::Certified => coverage.certified += share,
+            LeafVerdict::Refuted => coverage.refuted += share,
+            LeafVerdict::Undecided => coverage.undecided += share,
+        }
+    }
+    let mut map = RegionMap {
+        format: FORMAT.into(),
+        problem: problem.clone(),
+        ranges: whole.axes.clone(),
+        depth: options.depth,
+        leaves,
+        coverage,
+        programs_solved: solved,
+        digest: String::new(),
+    };
+    map.digest = map.compute_digest();
+    Ok(map)
+}
+
+/// Decides one box: certified, refuted, split, or (at the depth limit) undecided.
+fn decide(
+    problem: &Problem,
+    whole: &ParamBox,
+    task: Task,
+    options: &RegionOptions,
+    corners: &Corners,
+    on_decided: &(dyn Fn(f64) + Sync),
+) -> Decided {
+    let mut solved = 0;
+    let leaf = |verdict, reason: Option<String>| Leaf {
+        path: task.path.clone(),
+        bounds: bounds_of(&task.b),
+        verdict,
+        lower_bound: None,
+        proofs: Vec::new(),
+        refutation: None,
+        reason,
+    };
+    let share = volume_fraction(whole, &task.b);
+    let not_certified = match certify_box(problem, &task.b, &task.hints, &mut solved) {
+        Ok(cert) => {
+            on_decided(share);
+            let mut l = leaf(LeafVerdict::Certified, None);
+            l.lower_bound = Some(f64_at_most(&cert.lower_bound));
+            l.proofs = cert.proofs;
+            return Decided::Leaf(l, solved);
+        }
+        Err(nc) => nc,
+    };
+    let refuted = no_corner_certified(problem, &task.b, corners, &mut solved)
+        .and_then(|()| refute_at(&task.b.center_problem(problem), &task.b, &mut solved));
+    let note = match refuted {
+        Ok(r) => {
+            on_decided(share);
+            let mut l = leaf(LeafVerdict::Refuted, None);
+            l.refutation = Some(r);
+            return Decided::Leaf(l, solved);
+        }
+        Err(note) => note,
+    };
+    if let Some(axis) = split_axis(whole, &task, options)
+        && let Some((low, high)) = task.b.split(axis)
+    {
+        let half = |b, upper| Task {
+            b,
+            path: format!("{}{}", task.path, path_letter(axis, upper)),
+            hints: not_certified.hints.clone(),
+        };
+        return Decided::Split(half(low, false), half(high, true), solved);
+    }
+    on_decided(share);
+    let reason = format!("{}; {note}", not_certified.reason);
+    Decided::Leaf(leaf(LeafVerdict::Undecided, Some(reason)), solved)
+}
+
+/// The axis to halve: the widest relative to its whole range, if the depth and minimum
+/// width allow a split.
+fn split_axis(whole: &ParamBox, task: &Task, options: &RegionOptions) -> Option<usize> {
+    if task.path.chars().count() >= options.depth as usize {
+        return None;
+    }
+    let relative = |i: usize| {
+        let (w, a) = (&whole.axes[i], &task.b.axes[i]);
+        if w.hi > w.lo {
+            (a.hi - a.lo) / (w.hi - w.lo)
+        } else {
+            0.0
+        }
+    };
+    (0..whole.axes.len())
+        .filter(|&i| relative(i) > 0.0 && relative(i) / 2.0 >= options.min_width)
+        .max_by(|&i, &j| relative(i).total_cmp(&relative(j)).then(j.cmp(&i)))
+}
+
+/// A colliding behaviour at `point` (a problem inside `b`), or a note on what the point is.
+fn refute_at(point: &Problem, b: &ParamBox, solved: &mut usize) -> Result<Refutation, String> {
+    let options = Options {
+        witness: WitnessPolicy::ToRefute,
+    };
+    let a = match analyse_with(point, options) {
+        Ok(a) => a,
+        Err(e) => {
+            return Err(format!(
+                "its centre could not be analysed ({})",
+                error_text(&e)
+            ));
+        }
+    };
+    *solved += a.programs_solved;
+    match (a.verdict, a.witness) {
+        (Verdict::Refuted, Some(w)) => Ok(Refutation {
+            point: b
+                .axes
+                .iter()
+                .map(|x| (x.parameter.key().to_string(), x.parameter.get_in(point)))
+                .collect::<BTreeMap<_, _>>(),
+            piece: w.piece,
+            shift: w.shift,
+            obstacle_speeds: w.obstacle_speeds,
+        }),
+        (Verdict::Certified, _) => Err("its centre is certified".into()),
+        _ => Err("its centre is inconclusive".into()),
+    }
+}
+
+/// Whether no corner of `b` certifies (a box that straddles the boundary has one that
+/// does), or a note naming one that does. (Only the verdict is needed: no witness is
+/// replayed at corners.)
+fn no_corner_certified(
+    problem: &Problem,
+    b: &ParamBox,
+    corners: &Corners,
+    solved: &mut usize,
+) -> Result<(), String> {
+    for mask in 0..(1u32 << b.axes.len()) {
+        let values: Vec<f64> = b
+            .axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| if mask >> i & 1 == 1 { a.hi } else { a.lo })
+            .collect();
+        let key: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
+        let known = corners
+            .0
+            .lock()
+            .expect("no panics inside")
+            .get(&key)
+            .copied();
+        let verdict = known.unwrap_or_else(|| {
+            let mut p = problem.clone();
+            for (a, &v) in b.axes.iter().zip(&values) {
+                a.parameter.set_in(&mut p, v);
+            }
+            let options = Options {
+                witness: WitnessPolicy::Never,
+            };
+            let verdict = match analyse_with(&p, options) {
+                Ok(a) => {
+                    *solved += a.programs_solved;
+                    a.verdict
+                }
+                Err(_) => Verdict::Inconclusive,
+            };
+            corners
+                .0
+                .lock()
+                .expect("no panics inside")
+                .insert(key, verdict);
+            verdict
+        });
+        if verdict == Verdict::Certified {
+            let at: Vec<String> = b
+                .axes
+                .iter()
+                .zip(&values)
+                .map(|(a, v)| format!("{} = {v}", a.parameter.key()))
+                .collect();
+            return Err(format!(
+                "its corner {} is {}",
+                at.join(", "),
+                verdict.as_str()
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn error_text(e: &AnalysisError) -> String {
+    e.to_string()
+}

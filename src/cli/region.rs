@@ -1,0 +1,238 @@
+//! `safereach region`: one proof for a whole box of parameter values, and where it does not
+//! hold, a certified map of the box (leaves certified, refuted or undecided).
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use safereach::analysis::region_search::{RegionOptions, map_region};
+use safereach::analysis::report::region_plot;
+use safereach::core::param_box::{Axis, ParamBox};
+use safereach::core::parameter::Parameter;
+use safereach::proof::region_check::{check_map, describe_box};
+use safereach::proof::region_map::{LeafVerdict, RegionMap};
+
+use super::exit::Exit;
+use super::input::{self, Input};
+use super::output::{Output, write_file};
+
+/// Arguments of `safereach region`.
+#[derive(clap::Args)]
+pub struct RegionArgs {
+    /// Problem file (TOML; one obstacle).
+    problem: PathBuf,
+    /// A ranged parameter, `KEY=LO..HI` (repeatable): environment.obstacle_speed,
+    /// controller.reaction_radius, controller.assumed_obstacle_speed, controller.buffer,
+    /// environment.initial_gap, robot.clearance, sensing.gap_noise, sensing.speed_noise.
+    #[arg(long = "range", value_name = "KEY=LO..HI", required = true)]
+    ranges: Vec<String>,
+    /// Override a key (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Most halvings on the way from the whole box to a leaf.
+    #[arg(long, default_value_t = 12)]
+    depth: u32,
+    /// Do not halve an axis narrower than this fraction of its whole range.
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.0)]
+    min_width: f64,
+    /// Write the map (JSON; `safereach check` verifies it).
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Draw the map of the first two ranged parameters (SVG).
+    #[arg(long, value_name = "FILE")]
+    svg: Option<PathBuf>,
+    /// Print the map as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `safereach region`: exit 0 when every leaf is certified (the whole box is), 1 when
+/// some leaf is refuted, 3 when some is undecided and none refuted.
+pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
+    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(p) => p,
+        Input::Scene(_) => bail!(
+            "{}: region certificates cover problems with one obstacle and one start; \
+             scenes (and ranged initial gaps: use --range environment.initial_gap=LO..HI) \
+             are not covered yet",
+            args.problem.display()
+        ),
+    };
+    let axes = args
+        .ranges
+        .iter()
+        .map(|r| parse_range(r))
+        .collect::<Result<Vec<_>>>()?;
+    let whole = ParamBox::new(axes).map_err(|e| anyhow::anyhow!("--range: {e}"))?;
+    if !(args.min_width.is_finite() && (0.0..1.0).contains(&args.min_width)) {
+        bail!(
+            "--min-width {}: must be a fraction in [0, 1)",
+            args.min_width
+        );
+    }
+    let options = RegionOptions {
+        depth: args.depth,
+        min_width: args.min_width,
+    };
+    let bar = progress();
+    let on_decided = |share: f64| bar.inc((share * 1000.0).round() as u64);
+    let map = map_region(&problem, &whole, &options, &on_decided)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.problem.display()))?;
+    bar.finish_and_clear();
+    if let Some(path) = &args.out {
+        // Compact: a deep map holds thousands of multipliers and witness speeds.
+        write_file(path, (serde_json::to_string(&map)? + "\n").as_bytes())?;
+    }
+    if let Some(path) = &args.svg {
+        if map.ranges.len() < 2 {
+            bail!("--svg draws a plane: range two parameters");
+        }
+        write_file(path, region_plot::svg(&map).as_bytes())?;
+    }
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&map)?)?;
+    } else {
+        describe(out, &map, &whole)?;
+        for (flag, path) in [("map", &args.out), ("plot", &args.svg)] {
+            if let Some(p) = path {
+                writeln!(out, "wrote the {flag} to {}", p.display())?;
+            }
+        }
+    }
+    Ok(exit_of(&map))
+}
+
+/// `KEY=LO..HI`, the key one that region certificates range.
+fn parse_range(text: &str) -> Result<Axis> {
+    let flag = format!("--range {text}");
+    let Some((key, span)) = text.split_once('=') else {
+        bail!("{flag}: expected KEY=LO..HI, e.g. environment.obstacle_speed=0.10..0.20");
+    };
+    let key = key.trim();
+    let Some(parameter) = Parameter::from_key(key) else {
+        let known: Vec<&str> = Parameter::ALL.iter().map(|p| p.key()).collect();
+        bail!(
+            "{flag}: {key} cannot be ranged: only parameters that enter the programs' \
+             right-hand sides and bounds can ({}); the robot's own numbers (max_speed, \
+             acceleration, braking, control_period, latency) decide the schedule itself",
+            known.join(", ")
+        );
+    };
+    let Some((lo, hi)) = span.split_once("..") else {
+        bail!("{flag}: {key}: expected LO..HI, e.g. {key}=0.10..0.20");
+    };
+    let number = |s: &str| -> Result<f64> {
+        match s.trim().parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => bail!("{flag}: {key}: {:?} is not a finite number", s.trim()),
+        }
+    };
+    let (lo, hi) = (number(lo)?, number(hi)?);
+    if lo > hi {
+        bail!("{flag}: {key}: the range is reversed (lower end first)");
+    }
+    Ok(Axis { parameter, lo, hi })
+}
+
+fn progress() -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent}% of the box decided")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    bar
+}
+
+fn percent(x: f64) -> String {
+    format!("{:.2}%", 100.0 * x)
+}
+
+fn describe(out: &mut Output, map: &RegionMap, whole: &ParamBox) -> Result<()> {
+    let count = |v: LeafVerdict| map.leaves.iter().filter(|l| l.verdict == v).count();
+    writeln!(out, "{} over {}", map.problem.name, describe_box(whole))?;
+    if map.all_certified() {
+        let least = map
+            .leaves
+            .iter()
+            .filter_map(|l| l.lower_bound)
+            .fold(f64::INFINITY, f64::min);
+        writeln!(
+            out,
+            "certified for every point of the box ({} leaf{}): s* >= {least:.6} m everywhere \
+             (clearance {} m)",
+            map.leaves.len(),
+            if map.leaves.len() == 1 { "" } else { "s" },
+            map.problem.robot.clearance
+        )?;
+    } else {
+        writeln!(
+            out,
+            "{} leaves: certified {} ({} leaves), refuted {} ({}), undecided {} ({})",
+            map.leaves.len(),
+            percent(map.coverage.certified),
+            count(LeafVerdict::Certified),
+            percent(map.coverage.refuted),
+            count(LeafVerdict::Refuted),
+            percent(map.coverage.undecided),
+            count(LeafVerdict::Undecided),
+        )?;
+    }
+    writeln!(out, "{} programs solved", map.programs_solved)?;
+    Ok(())
+}
+
+fn exit_of(map: &RegionMap) -> Exit {
+    if map.all_certified() {
+        Exit::Pass
+    } else if map.leaves.iter().any(|l| l.verdict == LeafVerdict::Refuted) {
+        Exit::Fail
+    } else {
+        Exit::Inconclusive
+    }
+}
+
+/// `safereach check` of a map file (told apart by its format tag): exit 0 valid, 1 invalid.
+pub fn check_file(path: &Path, text: &str, out: &mut Output) -> Result<Exit> {
+    let map: RegionMap = serde_json::from_str(text)
+        .map_err(|e| anyhow::anyhow!("{}: not a safereach region map: {e}", path.display()))?;
+    match check_map(&map) {
+        Ok(report) => {
+            writeln!(
+                out,
+                "{}: valid; {} leaves re-verified in exact arithmetic: certified {}, refuted {}, \
+                 undecided {}{}",
+                path.display(),
+                report.leaves,
+                percent(report.coverage.certified),
+                percent(report.coverage.refuted),
+                percent(report.coverage.undecided),
+                if report.all_certified {
+                    " (the whole box is certified)"
+                } else {
+                    ""
+                }
+            )?;
+            Ok(Exit::Pass)
+        }
+        Err(e) => {
+            writeln!(out, "{}: INVALID: {e}", path.display())?;
+            Ok(Exit::Fail)
+        }
+    }
+}
+
+/// Whether certificate text is a region map (by its format tag).
+pub fn is_map(text: &str) -> bool {
+    #[derive(serde::Deserialize)]
+    struct Tag {
+        format: String,
+    }
+    serde_json::from_str::<Tag>(text)
+        .is_ok_and(|t| t.format == safereach::proof::region_map::FORMAT)
+}

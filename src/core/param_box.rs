@@ -1,0 +1,287 @@
+//! A box of parameter values: each ranged [`Parameter`] between two ends, every other number
+//! of the problem fixed. Region certificates make one claim about every point of a box.
+//!
+//! Ends are floats read as the decimals they print as (`0.15` is exactly 15/100), so a box
+//! written to JSON reads back as the same exact box. Splitting cuts an axis at its
+//! [`ParamBox::middle`] — the shortest decimal in the middle third, which both halves share,
+//! so the halves cover the box exactly, without gap or overlap beyond the shared face. Short
+//! decimals keep the exact arithmetic of deep boxes fast (halving 0.1 adds a digit each
+//! time; the middle third adds one every few splits).
+
+use serde::{Deserialize, Serialize};
+
+use crate::core::model::{Params, Problem};
+use crate::core::num::{Exact, exact_decimal};
+use crate::core::parameter::{ParamAffine, Parameter};
+
+/// One ranged parameter: every value in `[lo, hi]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    /// The parameter.
+    pub parameter: Parameter,
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end (≥ lo).
+    pub hi: f64,
+}
+
+impl Axis {
+    /// Exact lower end.
+    pub fn lo_exact(&self) -> Exact {
+        exact_decimal(self.lo)
+    }
+
+    /// Exact upper end.
+    pub fn hi_exact(&self) -> Exact {
+        exact_decimal(self.hi)
+    }
+}
+
+/// Which end of an axis a corner takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum End {
+    /// The lower end.
+    Low,
+    /// The upper end.
+    High,
+}
+
+/// A box of parameter values (distinct parameters, finite ends, lo ≤ hi).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParamBox {
+    /// The ranged parameters, in the order the user gave them.
+    pub axes: Vec<Axis>,
+}
+
+impl ParamBox {
+    /// A box from its axes; the reason when two axes name one parameter, an end is not
+    /// finite, or an axis is reversed.
+    pub fn new(axes: Vec<Axis>) -> Result<Self, String> {
+        for (i, a) in axes.iter().enumerate() {
+            if !(a.lo.is_finite() && a.hi.is_finite()) {
+                return Err(format!(
+                    "{}: the ends must be finite numbers",
+                    a.parameter.key()
+                ));
+            }
+            if a.lo > a.hi {
+                return Err(format!(
+                    "{}: the range {}..{} is reversed (lower end first)",
+                    a.parameter.key(),
+                    a.lo,
+                    a.hi
+                ));
+            }
+            if axes[..i].iter().any(|b| b.parameter == a.parameter) {
+                return Err(format!("{} is ranged twice", a.parameter.key()));
+            }
+        }
+        Ok(ParamBox { axes })
+    }
+
+    /// The axis of `p`, if it is ranged.
+    pub fn axis(&self, p: Parameter) -> Option<&Axis> {
+        self.axes.iter().find(|a| a.parameter == p)
+    }
+
+    /// The problem's numbers at the box's centre: each axis at its [`ParamBox::middle`].
+    pub fn center(&self, base: &Params<Exact>) -> Params<Exact> {
+        let mut p = base.clone();
+        for (i, a) in self.axes.iter().enumerate() {
+            a.parameter.set(&mut p, exact_decimal(self.middle(i)));
+        }
+        p
+    }
+
+    /// The shortest decimal in the middle third of axis `i` (nearest its midpoint among
+    /// those as short); the lower end for an axis without width.
+    pub fn middle(&self, i: usize) -> f64 {
+        let a = &self.axes[i];
+        if a.hi <= a.lo {
+            return a.lo;
+        }
+        let third = (a.hi - a.lo) / 3.0;
+        let (from, to) = (a.lo + third, a.hi - third);
+        let mid = a.lo + (a.hi - a.lo) / 2.0;
+        for digits in 0..=17 {
+            // The float nearest the decimal: its shortest form is that decimal.
+            if let Ok(m) = format!("{mid:.digits$}").parse::<f64>()
+                && from <= m
+                && m <= to
+                && a.lo < m
+                && m < a.hi
+            {
+                return m;
+            }
+        }
+        mid
+    }
+
+    /// The problem's numbers at the corner that takes, on each ranged axis, the end `pick`
+    /// names (unranged parameters keep their values).
+    pub fn corner(&self, base: &Params<Exact>, pick: impl Fn(Parameter) -> End) -> Params<Exact> {
+        let mut p = base.clone();
+        for a in &self.axes {
+            let v = match pick(a.parameter) {
+                End::Low => a.lo_exact(),
+                End::High => a.hi_exact(),
+            };
+            a.parameter.set(&mut p, v);
+        }
+        p
+    }
+
+    /// The least value over the box of an affine number whose value is taken at `at` (a
+    /// point of the box): an affine function is least at a vertex, taken axis by axis.
+    pub fn min_of(&self, f: &ParamAffine, at: &Params<Exact>) -> Exact {
+        self.extreme(f, at, false)
+    }
+
+    /// The greatest value over the box of an affine number taken at `at`.
+    pub fn max_of(&self, f: &ParamAffine, at: &Params<Exact>) -> Exact {
+        self.extreme(f, at, true)
+    }
+
+    fn extreme(&self, f: &ParamAffine, at: &Params<Exact>, greatest: bool) -> Exact {
+        let mut v = f.value.clone();
+        for (p, c) in f.terms() {
+            let here = p.value(at);
+            let Some(a) = self.axis(*p) else { continue };
+            let (lo, hi) = (c * &(a.lo_exact() - here), c * &(a.hi_exact() - here));
+            v += if (lo > hi) == greatest { lo } else { hi };
+        }
+        v
+    }
+
+    /// Whether the problem's value of every ranged parameter lies in the box.
+    pub fn contains(&self, problem: &Problem) -> bool {
+        self.axes.iter().all(|a| {
+            let v = a.parameter.get_in(problem);
+            a.lo <= v && v <= a.hi
+        })
+    }
+
+    /// The two parts of the box along axis `i`, cut at its [`ParamBox::middle`], which both
+    /// share. None when the axis cannot be cut any more (no float strictly between its ends).
+    pub fn split(&self, i: usize) -> Option<(ParamBox, ParamBox)> {
+        let a = self.axes[i];
+        let mid = self.middle(i);
+        if !(a.lo < mid && mid < a.hi) {
+            return None;
+        }
+        let (mut low, mut high) = (self.clone(), self.clone());
+        low.axes[i].hi = mid;
+        high.axes[i].lo = mid;
+        Some((low, high))
+    }
+
+    /// The box's centre ([`ParamBox::center`]) as a problem file.
+    pub fn center_problem(&self, base: &Problem) -> Problem {
+        let mut p = base.clone();
+        for (i, a) in self.axes.iter().enumerate() {
+            a.parameter.set_in(&mut p, self.middle(i));
+        }
+        p
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::parameter::symbolic;
+
+    fn seed_box() -> ParamBox {
+        ParamBox::new(vec![
+            Axis {
+                parameter: Parameter::ObstacleSpeed,
+                lo: 0.1,
+                hi: 0.3,
+            },
+            Axis {
+                parameter: Parameter::ReactionRadius,
+                lo: 1.0,
+                hi: 1.6,
+            },
+        ])
+        .expect("a valid box")
+    }
+
+    #[test]
+    fn extremes_of_an_affine_number_sit_at_vertices() {
+        // f = 2·W − 3·ρ + buffer, taken at the centre (W = 0.2, ρ = 1.3): least at
+        // (W, ρ) = (0.1, 1.6), greatest at (0.3, 1.0); the buffer is not ranged.
+        let b = seed_box();
+        let base = Problem::shipped_seed().params::<Exact>();
+        let at = b.center(&base);
+        let s = symbolic(&at);
+        let f = s.W.scaled(&Exact::from(2)) - s.rho.scaled(&Exact::from(3)) + s.buffer.clone();
+        let value = |w: f64, r: f64| {
+            exact_decimal(w) * Exact::from(2) - exact_decimal(r) * Exact::from(3) + &base.buffer
+        };
+        assert_eq!(b.min_of(&f, &at), value(0.1, 1.6));
+        assert_eq!(b.max_of(&f, &at), value(0.3, 1.0));
+    }
+
+    #[test]
+    fn middles_are_short_decimals_in_the_middle_third() {
+        let b = seed_box();
+        assert_eq!(b.middle(0), 0.2);
+        assert_eq!(b.middle(1), 1.3);
+        let narrow = ParamBox::new(vec![Axis {
+            parameter: Parameter::ObstacleSpeed,
+            lo: 0.1,
+            hi: 0.15,
+        }])
+        .expect("valid");
+        // 0.125 is the midpoint; 0.12 is shorter and in the middle third.
+        assert_eq!(narrow.middle(0), 0.12);
+        // Deep splits stay short: twenty cuts add far fewer than twenty digits.
+        let mut deep = narrow;
+        for k in 0..20 {
+            let (low, high) = deep.split(0).expect("splittable");
+            deep = if k % 2 == 0 { low } else { high };
+            let a = deep.axes[0];
+            assert!(a.lo < a.hi);
+            let third = (a.hi - a.lo) / 3.0;
+            let m = deep.middle(0);
+            assert!(a.lo + third <= m && m <= a.hi - third);
+        }
+        assert!(
+            format!("{}", deep.axes[0].hi).len() <= 14,
+            "{:?}",
+            deep.axes[0]
+        );
+    }
+
+    #[test]
+    fn halves_share_their_face_and_cover_the_box() {
+        let b = seed_box();
+        let (low, high) = b.split(0).expect("splittable");
+        assert_eq!(low.axes[0].lo, 0.1);
+        assert_eq!(low.axes[0].hi, high.axes[0].lo);
+        assert_eq!(high.axes[0].hi, 0.3);
+        assert_eq!(low.axes[1], b.axes[1]);
+        assert_eq!(exact_decimal(low.axes[0].hi), exact_decimal(0.2));
+        let point = ParamBox::new(vec![Axis {
+            parameter: Parameter::Buffer,
+            lo: 0.1,
+            hi: 0.1,
+        }])
+        .expect("a point is a box");
+        assert!(point.split(0).is_none());
+    }
+
+    #[test]
+    fn malformed_boxes_are_refused_with_the_key() {
+        let axis = |lo, hi| Axis {
+            parameter: Parameter::ReactionRadius,
+            lo,
+            hi,
+        };
+        let err = ParamBox::new(vec![axis(1.6, 1.0)]).unwrap_err();
+        assert!(err.contains("controller.reaction_radius") && err.contains("reversed"));
+        let err = ParamBox::new(vec![axis(1.0, 1.6), axis(1.0, 1.2)]).unwrap_err();
+        assert!(err.contains("twice"));
+        assert!(ParamBox::new(vec![axis(f64::NAN, 1.0)]).is_err());
+    }
+}

@@ -1,0 +1,419 @@
+//! Checking region maps without the solver, in exact rationals.
+//!
+//! [`check_map`] trusts none of the map's numbers:
+//! 1. the format tag and the digest (an edit after the fact is named as such);
+//! 2. the problem is valid at every corner of the box, and the box is one region
+//!    certificates cover ([`refusal`]);
+//! 3. the leaves' paths are the ends of binary splits that cover the box exactly once, and
+//!    each leaf's `box` is the box its path leads to;
+//! 4. each certified leaf's pieces are rebuilt for its box, its proofs must list exactly
+//!    those pieces, and each proof's affine bound, least at a vertex, must exceed the
+//!    clearance everywhere in the leaf (emptiness proofs must hold at every vertex);
+//! 5. each refuted leaf's point lies in the leaf and its behaviour, replayed exactly at that
+//!    point, collides;
+//! 6. the stated coverage follows from the leaves.
+
+use crate::core::model::Problem;
+use crate::core::num::{Exact, exact_float, f64_at_most};
+use crate::core::param_box::ParamBox;
+use crate::core::parameter::{ParamAffine, Parameter};
+use crate::core::simulate;
+use crate::proof::check::Invalid;
+use crate::proof::program::{Program, ProofKind};
+use crate::proof::region_map::{
+    BoxProof, Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, box_at,
+    path_step, volume_fraction,
+};
+use crate::proof::schedule::{Decomposition, Piece};
+use crate::proof::verdict::aim;
+
+/// Most ranged parameters a map may have (its corners are all validated).
+pub const MAX_AXES: usize = 8;
+
+/// What a valid map establishes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapReport {
+    /// Leaves checked.
+    pub leaves: usize,
+    /// Fractions of the box by verdict.
+    pub coverage: Coverage,
+    /// Every leaf is certified: the whole box is.
+    pub all_certified: bool,
+}
+
+fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
+    Err(Invalid(msg.into()))
+}
+
+/// Why region certificates do not cover `problem` over `whole` (None: they do).
+pub fn refusal(problem: &Problem, whole: &ParamBox) -> Option<String> {
+    if whole.axes.is_empty() {
+        return Some("no parameter is ranged".into());
+    }
+    if whole.axes.len() > MAX_AXES {
+        return Some(format!(
+            "at most {MAX_AXES} parameters can be ranged at once"
+        ));
+    }
+    if let Err(reason) = ParamBox::new(whole.axes.clone()) {
+        return Some(reason);
+    }
+    if problem.environment.initial_gap.is_range() && whole.axis(Parameter::InitialGap).is_none() {
+        return Some(
+            "environment.initial_gap is a range, which region certificates do not cover yet; \
+             range it with --range environment.initial_gap=LO..HI instead"
+                .into(),
+        );
+    }
+    let base = problem.params::<Exact>();
+    if base.d_det.is_some() {
+        let dec = Decomposition::for_box(problem, whole);
+        if dec.wrong_assumption_active() {
+            return Some(
+                "sensing.first_detection_gap with a wrong-assumption guard active somewhere in \
+                 the box is not analysed yet"
+                    .into(),
+            );
+        }
+    }
+    // Every constraint on these keys is an interval, so validity at every corner is validity
+    // everywhere in the box.
+    let n = whole.axes.len();
+    for mask in 0..(1u32 << n) {
+        let mut p = problem.clone();
+        for (i, a) in whole.axes.iter().enumerate() {
+            let v = if mask >> i & 1 == 1 { a.hi } else { a.lo };
+            a.parameter.set_in(&mut p, v);
+        }
+        if let Err(e) = p.validate("the box's corner") {
+            return Some(format!(
+                "the problem is invalid at a corner of the box: {e}"
+            ));
+        }
+    }
+    None
+}
+
+/// Re-verifies a map (see the module docs for what is checked).
+pub fn check_map(map: &RegionMap) -> Result<MapReport, Invalid> {
+    if map.format != FORMAT {
+        return invalid(format!("format is {:?}, expected {FORMAT:?}", map.format));
+    }
+    if map.compute_digest() != map.digest {
+        return invalid("digest mismatch: the map was edited after it was written");
+    }
+    map.problem
+        .validate("map problem")
+        .map_err(|e| Invalid(format!("the map's problem is invalid: {e}")))?;
+    let whole = map.whole();
+    if let Some(reason) = refusal(&map.problem, &whole) {
+        return invalid(format!(
+            "the map's box is not one region certificates cover: {reason}"
+        ));
+    }
+    check_partition(&map.leaves, map.depth)?;
+    let mut coverage = Coverage::default();
+    for leaf in &map.leaves {
+        let Some(b) = box_at(&whole, &leaf.path) else {
+            return invalid(format!("leaf {:?}: the path leads to no box", leaf.path));
+        };
+        if leaf.bounds != bounds_of(&b) {
+            return invalid(format!(
+                "leaf {:?}: its box is not the one its path leads to",
+                leaf.path
+            ));
+        }
+        check_leaf(&map.problem, &b, leaf)
+            .map_err(|Invalid(e)| Invalid(format!("leaf {:?}: {e}", leaf.path)))?;
+        let share = volume_fraction(&whole, &b);
+        match leaf.verdict {
+            LeafVerdict::Certified => coverage.certified += share,
+            LeafVerdict::Refuted => coverage.refuted += share,
+            LeafVerdict::Undecided => coverage.undecided += share,
+        }
+    }
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-9;
+    if !(near(coverage.certified, map.coverage.certified)
+        && near(coverage.refuted, map.coverage.refuted)
+        && near(coverage.undecided, map.coverage.undecided))
+    {
+        return invalid("the stated coverage does not follow from the leaves");
+    }
+    Ok(MapReport {
+        leaves: map.leaves.len(),
+        coverage,
+        all_certified: map.all_certified(),
+    })
+}
+
+/// The paths must be the leaves of one binary split tree (each inner node split along one
+/// axis into both halves), no deeper than `depth`.
+fn check_partition(leaves: &[Leaf], depth: u32) -> Result<(), Invalid> {
+    if leaves.is_empty() {
+        return invalid("the map has no leaves");
+    }
+    if let Some(l) = leaves
+        .iter()
+        .find(|l| l.path.chars().count() > depth as usize)
+    {
+        return invalid(format!("leaf {:?} is deeper than the map's depth", l.path));
+    }
+    let mut paths: Vec<&str> = leaves.iter().map(|l| l.path.as_str()).collect();
+    paths.sort_unstable();
+    if paths.windows(2).any(|w| w[0] == w[1]) {
+        return invalid("two leaves have the same path");
+    }
+    fn covers(paths: &[&str], at: usize) -> Result<(), String> {
+        if let [only] = paths
+            && only.len() == at
+        {
+            return Ok(());
+        }
+        let mut low = Vec::new();
+        let mut high = Vec::new();
+        let mut axis = None;
+        for p in paths {
+            let Some(c) = p[at..].chars().next() else {
+                return Err(format!("leaf {p:?} lies inside another leaf"));
+            };
+            let Some((a, upper)) = path_step(c) else {
+                return Err(format!("leaf {p:?}: {c:?} names no split"));
+            };
+            if *axis.get_or_insert(a) != a {
+                return Err(format!("leaves under {:?} split different axes", &p[..at]));
+            }
+            if upper { high.push(*p) } else { low.push(*p) }
+        }
+        if low.is_empty() || high.is_empty() {
+            return Err(format!(
+                "the leaves do not cover the box: a half under {:?} has none",
+                &paths[0][..at]
+            ));
+        }
+        covers(&low, at + 1)?;
+        covers(&high, at + 1)
+    }
+    covers(&paths, 0).map_err(Invalid)
+}
+
+/// One leaf's evidence.
+fn check_leaf(problem: &Problem, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid> {
+    match leaf.verdict {
+        LeafVerdict::Certified => {
+            if leaf.refutation.is_some() {
+                return invalid("a certified leaf carries a refutation");
+            }
+            let dec = Decomposition::for_box(problem, b);
+            let (margin, lower) = box_margin(&dec, &leaf.proofs)?;
+            if margin <= Exact::ZERO {
+                return invalid("the proofs do not keep s* above the clearance everywhere");
+            }
+            if leaf.lower_bound != Some(f64_at_most(&lower)) {
+                return invalid(format!(
+                    "stated lower bound {:?}, the proofs give {}",
+                    leaf.lower_bound,
+                    f64_at_most(&lower)
+                ));
+            }
+            Ok(())
+        }
+        LeafVerdict::Refuted => {
+            let Some(r) = &leaf.refutation else {
+                return invalid("a refuted leaf names no colliding point");
+            };
+            if !leaf.proofs.is_empty() || leaf.lower_bound.is_some() {
+                return invalid("a refuted leaf carries proofs");
+            }
+            check_refutation(problem, b, r)
+        }
+        LeafVerdict::Undecided => {
+            if !leaf.proofs.is_empty() || leaf.refutation.is_some() || leaf.lower_bound.is_some() {
+                return invalid("an undecided leaf carries evidence for a verdict");
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The least margin s* − clearance over the box that the proofs establish, and the least
+/// lower bound on s*; an error when a proof is malformed, for another piece, or does not
+/// prove what it says. Proofs must list the decomposition's pieces in order.
+pub fn box_margin(dec: &Decomposition, proofs: &[BoxProof]) -> Result<(Exact, Exact), Invalid> {
+    if proofs.len() != dec.pieces.len() {
+        return invalid(format!(
+            "the box has {} pieces; the leaf lists {} proofs",
+            dec.pieces.len(),
+            proofs.len()
+        ));
+    }
+    let b = dec.region().expect("a box decomposition");
+    let clearance = ParamAffine::parameter(Parameter::Clearance, &dec.params);
+    let mut margin: Option<Exact> = None;
+    let mut lower: Option<Exact> = None;
+    for (i, (proof, piece)) in proofs.iter().zip(&dec.pieces).enumerate() {
+        if proof.piece != *piece {
+            return invalid(format!(
+                "proof {i} is for {}, but piece {i} is {}",
+                describe(&proof.piece),
+                describe(piece)
+            ));
+        }
+        let program = dec.program(piece);
+        match box_proof_value(
+            b,
+            &dec.params,
+            &program,
+            piece,
+            &proof.kind,
+            &proof.multipliers,
+        ) {
+            Err(reason) => return invalid(format!("proof {i} ({}): {reason}", describe(piece))),
+            Ok(None) => {
+                if proof.bound.is_some() {
+                    return invalid(format!("proof {i}: an emptiness proof states a bound"));
+                }
+            }
+            Ok(Some(bound)) => {
+                let least = b.min_of(&bound, &dec.params);
+                if proof.bound != Some(f64_at_most(&least)) {
+                    return invalid(format!(
+                        "proof {i}: stated bound {:?}, the multipliers prove {}",
+                        proof.bound,
+                        f64_at_most(&least)
+                    ));
+                }
+                let m = b.min_of(&(bound - clearance.clone()), &dec.params);
+                if margin.as_ref().is_none_or(|x| m < *x) {
+                    margin = Some(m);
+                }
+                if lower.as_ref().is_none_or(|x| least < *x) {
+                    lower = Some(least);
+                }
+            }
+        }
+    }
+    // Every piece empty: no behaviour comes nearer than the start.
+    let start = ParamAffine::parameter(Parameter::InitialGap, &dec.params);
+    let margin = margin.unwrap_or_else(|| b.min_of(&(start.clone() - clearance), &dec.params));
+    let lower = lower.unwrap_or_else(|| b.min_of(&start, &dec.params));
+    Ok((margin, lower))
+}
+
+/// What multipliers prove about a piece's box program at every point of the box `b` (the
+/// program taken at `at`, its centre): `Some(bound)`, affine in the ranged parameters, or
+/// `None` when they prove it empty everywhere; the reason when they prove neither.
+pub fn box_proof_value(
+    b: &ParamBox,
+    at: &crate::core::model::Params<Exact>,
+    program: &Program,
+    piece: &Piece,
+    kind: &ProofKind,
+    z: &[f64],
+) -> Result<Option<ParamAffine>, String> {
+    match kind {
+        ProofKind::Bound => {
+            if !piece.has_objective() {
+                return Err("a pass-through piece needs an emptiness proof".into());
+            }
+            program
+                .bound_affine(z, true)
+                .map(Some)
+                .ok_or_else(|| "the multipliers are malformed".into())
+        }
+        ProofKind::Infeasible => {
+            let farkas = program
+                .bound_affine(z, false)
+                .ok_or_else(|| "the multipliers are malformed".to_string())?;
+            let least = b.min_of(&farkas, at);
+            // Zero proves the strict system empty only with weight on a strict row.
+            let strict_weight = program
+                .rows
+                .iter()
+                .zip(z)
+                .any(|(row, &zi)| row.strict && zi > 0.0);
+            if least > Exact::ZERO || (least == Exact::ZERO && strict_weight) {
+                Ok(None)
+            } else {
+                Err("the multipliers do not prove the piece empty at every point".into())
+            }
+        }
+    }
+}
+
+/// A refutation: the point lies in the box and the behaviour collides there, exactly.
+fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(), Invalid> {
+    let keys: Vec<&str> = b.axes.iter().map(|a| a.parameter.key()).collect();
+    if r.point.keys().map(String::as_str).ne(sorted(&keys)) {
+        return invalid("the refuted point does not give exactly the ranged keys");
+    }
+    let mut at = problem.clone();
+    for a in &b.axes {
+        let v = r.point[a.parameter.key()];
+        if !(a.lo <= v && v <= a.hi) {
+            return invalid(format!(
+                "the refuted point's {} = {v} lies outside the leaf",
+                a.parameter.key()
+            ));
+        }
+        a.parameter.set_in(&mut at, v);
+    }
+    at.validate("the refuted point")
+        .map_err(|e| Invalid(format!("the refuted point's problem is invalid: {e}")))?;
+    let params = at.params::<Exact>();
+    if let Some(k) = r
+        .obstacle_speeds
+        .iter()
+        .position(|&s| s.is_nan() || s < 0.0 || exact_float(s) > params.W)
+    {
+        return invalid(format!(
+            "the behaviour's speed in period {k} is outside [0, W]"
+        ));
+    }
+    let replay = simulate::replay_reacting_at(
+        &params,
+        &r.obstacle_speeds,
+        aim(&r.piece, r.shift),
+        r.obstacle_speeds.len(),
+        true,
+    );
+    if !replay.collided() {
+        return invalid("the behaviour does not collide at the refuted point");
+    }
+    Ok(())
+}
+
+fn sorted<'a>(keys: &[&'a str]) -> impl Iterator<Item = &'a str> {
+    let mut k = keys.to_vec();
+    k.sort_unstable();
+    k.into_iter()
+}
+
+/// A piece in words, for messages.
+pub fn describe(p: &Piece) -> String {
+    let ending = match p.ending {
+        crate::proof::schedule::Ending::Danger => "danger",
+        crate::proof::schedule::Ending::WrongAssumption => "wrong assumption",
+        crate::proof::schedule::Ending::PassThrough => "pass-through",
+        crate::proof::schedule::Ending::Bystander => "bystander",
+    };
+    let mut s = format!("brake step {}, {ending}", p.brake);
+    if let Some(e) = p.entry {
+        s += &format!(", entry {}{}", e, if p.early { " or earlier" } else { "" });
+    }
+    if p.merged {
+        s += ", with its later shifts";
+    }
+    if p.detected {
+        s += ", first seen then";
+    }
+    s
+}
+
+/// A box in words, for messages: `key = lo..hi, …`.
+pub fn describe_box(b: &ParamBox) -> String {
+    b.axes
+        .iter()
+        .map(|a| format!("{} = {}..{}", a.parameter.key(), a.lo, a.hi))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
