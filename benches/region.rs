@@ -78,8 +78,10 @@ fn main() {
                 })
             })
             .collect();
+        // Every 40th cell, timed and scaled up: the whole sweep takes minutes.
+        let sample: Vec<(f64, f64)> = cells.iter().copied().step_by(40).collect();
         let start = Instant::now();
-        let certified = cells
+        let certified = sample
             .par_iter()
             .filter(|(w, r)| {
                 let mut p = seed.clone();
@@ -91,15 +93,15 @@ fn main() {
                 analyse_with(&p, options).is_ok_and(|a| a.verdict == Verdict::Certified)
             })
             .count();
-        let sweep = start.elapsed().as_secs_f64();
+        let sweep = start.elapsed().as_secs_f64() * cells.len() as f64 / sample.len() as f64;
         println!(
-            "point sweep at the finest leaves' resolution: {} x {} = {} cells in {:.2} s ({} certified; a statement about {} points only); ratio sweep/region = {:.1}x",
+            "point sweep at the finest leaves' resolution: {} x {} = {} cells, {:.1} s (scaled from {} timed cells, {} of them certified; a statement about those points only); ratio sweep/region = {:.0}x",
             nw,
             nr,
             cells.len(),
             sweep,
+            sample.len(),
             certified,
-            cells.len(),
             sweep / took
         );
     }

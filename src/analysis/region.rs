@@ -2,8 +2,8 @@
 //!
 //! The box's pieces and programs come from
 //! [`Decomposition::for_box`](crate::proof::schedule::Decomposition::for_box), taken at the
-//! box's centre. Each piece's multipliers come from (in order of cost) the parent box's proof
-//! of the same piece, a one-row or all-rows Farkas candidate, or Clarabel at the centre; the
+//! box's centre. Each piece's multipliers come from the parent box's proof of the same piece
+//! or from Clarabel at the centre (exact arithmetic, not the solver, is what costs here); the
 //! exact affine bound they prove is then minimised over the box
 //! ([`box_proof_value`]). A bound that does not clear the clearance may still belong to a
 //! piece whose strict system is empty (its closure holds only on a guard's boundary): the
@@ -127,28 +127,20 @@ fn prove_piece(
             _ => Some(value),
         }
     };
-    let rows = program.rows.len();
-    let mut candidates: Vec<(ProofKind, Vec<f64>)> = Vec::new();
     if let Some((kind, z)) = hint
-        && z.len() == rows
+        && z.len() == program.rows.len()
+        && let Some(value) = holds(kind, z)
     {
-        candidates.push((kind.clone(), z.clone()));
-    }
-    if let Some(i) = program.infeasible_row() {
-        let mut z = vec![0.0; rows];
-        z[i] = 1.0;
-        candidates.push((ProofKind::Infeasible, z));
-    }
-    candidates.push((ProofKind::Infeasible, vec![1.0; rows]));
-    for (kind, z) in candidates {
-        if let Some(value) = holds(&kind, &z) {
-            return Ok((kind, z, value));
-        }
+        return Ok((kind.clone(), z.clone(), value));
     }
     *solved += 1;
     let reason = match lp::solve(program, 0.0) {
         LpOutcome::Optimal { z, value, .. } if piece.has_objective() => {
-            if let Some(v) = holds(&ProofKind::Bound, &z) {
+            // The affine bound at the centre is at most the optimum there: no need to
+            // evaluate it exactly when the optimum does not clear the clearance.
+            if value > clearance.value.to_f64().value()
+                && let Some(v) = holds(&ProofKind::Bound, &z)
+            {
                 return Ok((ProofKind::Bound, z, v));
             }
             format!("its worst case at the centre is {value:.6} m, too close for the whole box")
@@ -160,7 +152,22 @@ fn prove_piece(
             }
             "empty at the centre, but not provably so over the whole box".into()
         }
-        LpOutcome::Failed { status } => format!("the solver failed ({status})"),
+        LpOutcome::Failed { status } => {
+            // Without the solver's multipliers, the cheap Farkas candidates.
+            let rows = program.rows.len();
+            let mut candidates = vec![vec![1.0; rows]];
+            if let Some(i) = program.infeasible_row() {
+                let mut z = vec![0.0; rows];
+                z[i] = 1.0;
+                candidates.push(z);
+            }
+            for z in candidates {
+                if let Some(v) = holds(&ProofKind::Infeasible, &z) {
+                    return Ok((ProofKind::Infeasible, z, v));
+                }
+            }
+            format!("the solver failed ({status})")
+        }
     };
     // The closure may hold only on a guard's boundary, which the semantics excludes.
     if let Some((z, _)) = prove_strictly_empty(program, solved)

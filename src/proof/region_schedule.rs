@@ -64,9 +64,14 @@ impl Decomposition {
         }
     }
 
+    /// Whether the wrong-assumption guard can fire at some point of the box (at the point).
+    pub(crate) fn wrong_assumption_active(&self) -> bool {
+        self.guard_active
+    }
+
     /// Whether the wrong-assumption guard can fire at some point: fastest obstacle, most
     /// speed noise, least assumed speed.
-    pub(crate) fn wrong_assumption_active(&self) -> bool {
+    pub(crate) fn guard_active_somewhere(&self) -> bool {
         self.corner(|p| match p {
             Parameter::ObstacleSpeed | Parameter::SpeedNoise => End::High,
             _ => End::Low,

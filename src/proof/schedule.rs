@@ -162,6 +162,11 @@ pub struct Decomposition {
     /// decision that depends on a named parameter is then made for the whole box
     /// ([`crate::proof::region_schedule`]); `params` is the box's centre.
     pub(crate) region: Option<ParamBox>,
+    /// The point where in-area runs are longest (`params` itself for a point; computed once,
+    /// every listed step asks).
+    pub(crate) widest_area: Params<Exact>,
+    /// Whether the wrong-assumption guard can fire somewhere (computed once).
+    pub(crate) guard_active: bool,
 }
 
 /// Time and distance the robot needs to stop when it brakes from speed `v`, by iterating the
@@ -236,12 +241,16 @@ impl Decomposition {
             cruise_stop: stopping(&params, params.v_max.clone()),
             cruise_from: profile.len() - 1,
             profile,
+            widest_area: params.clone(),
             params,
             first_brake: 0,
             last_brake: 0,
             pieces: Vec::new(),
             region,
+            guard_active: false,
         };
+        d.widest_area = d.widest_area_corner();
+        d.guard_active = d.guard_active_somewhere();
         d.find_brake_range();
         let cut = limit.filter(|&t| t.saturating_add(1) < d.last_brake);
         if let Some(t) = cut {
@@ -473,8 +482,8 @@ impl Decomposition {
         let l = self.params.L;
         let closed = self.position(t - 1 - l) - self.position(e - l);
         // (Over a box: possible at some point, the widest area with the least danger.)
-        let p = self.widest_area_corner();
-        match danger_distance(&p, &self.drive(t - 1).speed) {
+        let p = &self.widest_area;
+        match danger_distance(p, &self.drive(t - 1).speed) {
             None => false,
             Some(d) => p.rho.clone() - closed > d,
         }
@@ -791,35 +800,35 @@ impl Decomposition {
     /// [`Decomposition::fastest_approach`]) at the point `p` has covered at least `need`, if
     /// any before the robot alone reaches the obstacle's start.
     fn first_fast_cover(&self, p: &Params<Exact>, from: usize, need: &Exact) -> Option<usize> {
-        let s = symbolic(p);
+        // In exact values: only where it covers enough matters here, not its slopes.
         let end = self.last_brake;
-        let mut gap = s.g0.clone();
+        let mut gap = p.g0.clone();
         for j in 0..end {
-            if j >= from && p.g0.clone() - self.position(j) - gap.value.clone() >= *need {
+            if j >= from && p.g0.clone() - self.position(j) - gap.clone() >= *need {
                 return Some(j);
             }
-            gap = self.fastest_step(&s, j, gap);
+            gap = self.fastest_step(p, j, gap);
         }
         None
     }
 
     /// One step of the fastest approach from `gap` at step j.
-    fn fastest_step(&self, s: &Params<ParamAffine>, j: usize, gap: ParamAffine) -> ParamAffine {
+    fn fastest_step<N: Approach>(&self, s: &Params<N>, j: usize, gap: N) -> N {
         let dt = &self.params.dt;
-        let closing = ParamAffine::constant(self.position(j + 1) - self.position(j));
+        let closing = N::lift(&(self.position(j + 1) - self.position(j)));
         // "Inside" is where no error can show the obstacle outside: a true gap ≤ ρ − σ_g;
         // there its speed must be seen ≤ V_a for some error: ≤ V_a + σ_w.
         let edge = s.rho.clone() - s.sigma_g.clone();
-        let at_w = gap.clone() - closing.clone() - s.W.scaled(dt);
+        let at_w = gap.clone() - closing.clone() - s.W.times(dt);
         let w = if at_w > edge {
             s.W.clone()
         } else {
-            let to_edge = (gap.clone() - closing.clone() - edge).scaled(&(Exact::ONE / dt));
+            let to_edge = (gap.clone() - closing.clone() - edge).times(&(Exact::ONE / dt));
             let slow = slowest_fast(s);
             let w = if to_edge > slow { to_edge } else { slow };
             if w > s.W { s.W.clone() } else { w }
         };
-        gap - closing - w.scaled(dt)
+        gap - closing - w.times(dt)
     }
 
     /// Where a merged piece's optimum u* = g_m lies: the shift j ≥ 0 whose box contains it
@@ -838,9 +847,38 @@ impl Decomposition {
 
 /// The fastest speed an obstacle inside the area may have without the wrong-assumption
 /// guard firing for every error: min(W, V_a + σ_w).
-pub(crate) fn slowest_fast(s: &Params<ParamAffine>) -> ParamAffine {
+pub(crate) fn slowest_fast<N: Approach>(s: &Params<N>) -> N {
     let seen = s.V_a.clone() + s.sigma_w.clone();
     if seen > s.W { s.W.clone() } else { seen }
+}
+
+/// The numbers the fastest approach runs in: exact values (where it has covered enough) or
+/// affine in the parameters (an early piece's box end, with its slopes).
+pub(crate) trait Approach:
+    Clone + PartialOrd + std::ops::Add<Output = Self> + std::ops::Sub<Output = Self>
+{
+    /// A constant.
+    fn lift(x: &Exact) -> Self;
+    /// `self · k`.
+    fn times(&self, k: &Exact) -> Self;
+}
+
+impl Approach for Exact {
+    fn lift(x: &Exact) -> Self {
+        x.clone()
+    }
+    fn times(&self, k: &Exact) -> Self {
+        self * k
+    }
+}
+
+impl Approach for ParamAffine {
+    fn lift(x: &Exact) -> Self {
+        ParamAffine::constant(x.clone())
+    }
+    fn times(&self, k: &Exact) -> Self {
+        self.scaled(k)
+    }
 }
 
 /// min(ρ, d), with d = None standing for ∞ (the `area` rule).
