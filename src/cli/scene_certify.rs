@@ -88,16 +88,12 @@ fn summary(cert: &SceneCertificate) -> String {
     }
     s += "  per obstacle of the robot's lane (others are out of reach):\n";
     for o in &cert.obstacles {
-        let sep = o
-            .min_separation
-            .map_or("-".to_string(), |x| format!("{x:.6} m"));
         let bound = o
             .lower_bound
-            .map_or("none".to_string(), |x| format!("{x:.9} m"));
+            .map_or("none proved".to_string(), |x| format!("{x:.9} m"));
         s += &format!(
-            "    {:<16} s* {:<14} bound {:<16} pieces {} own + {} bystander\n",
+            "    {:<16} separation >= {:<16} pieces {} own + {} bystander\n",
             format!("\"{}\"", o.name),
-            sep,
             bound,
             o.own.len(),
             o.bystanders.len()

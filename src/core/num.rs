@@ -116,6 +116,17 @@ pub fn f64_at_most(r: &Exact) -> f64 {
     }
 }
 
+/// The least `f64` not below `r`: where a float must stay outside an exact bound from above
+/// (a width declared for an exact interval must not understate it).
+pub fn f64_at_least(r: &Exact) -> f64 {
+    let x = r.to_f64().value();
+    if x.is_finite() && exact_float(x) < *r {
+        x.next_up()
+    } else {
+        x
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -138,6 +149,8 @@ mod tests {
             let r = exact_decimal(x);
             assert!(exact_float(f64_at_most(&r)) <= r);
             assert!(exact_float(f64_at_most(&r).next_up()) > r);
+            assert!(exact_float(f64_at_least(&r)) >= r);
+            assert!(exact_float(f64_at_least(&r).next_down()) < r);
         }
     }
 }
