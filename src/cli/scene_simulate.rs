@@ -13,23 +13,15 @@ use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::search_certificate::{exact_from_text, witness_starts};
 
 use super::exit::Exit;
-use super::input::{self, Unreadable};
 use super::output::{Output, write_file};
 use super::simulate::SimulateArgs;
 
-/// Runs `simulate` for a scene: exit 0 no collision, 1 a collision.
-pub fn run(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
-    match &args.replay {
-        Some(path) => replay(scene, path, args, out),
-        None if args.runs == 0 => anyhow::bail!("--runs must be at least 1"),
-        None => random(scene, args, out),
-    }
-}
-
-/// Replays a scene certificate's witness: every obstacle's speeds, period by period.
-fn replay(
+/// Replays a scene certificate's witness (checked by the caller) on its scene: every
+/// obstacle's speeds, period by period.
+pub fn replay(
     scene: &Scene,
     path: &std::path::Path,
+    cert: &CertificateFile,
     args: &SimulateArgs,
     out: &mut Output,
 ) -> Result<Exit> {
@@ -40,11 +32,10 @@ fn replay(
         )
     };
     let params = scene.params::<Exact>();
-    let (speeds, starts, obstacle) = match input::any_certificate(path, Unreadable::Reading)? {
+    let (speeds, starts, obstacle) = match cert {
         CertificateFile::Single(_) => anyhow::bail!(
-            "{}: a single-obstacle certificate; {} is a scene (replay it with its problem file)",
+            "{}: a single-obstacle certificate, not a scene's",
             path.display(),
-            scene.name
         ),
         CertificateFile::Scene(cert) => {
             let w = cert.witness.as_ref().with_context(no_witness)?;
@@ -135,7 +126,7 @@ fn replay(
 }
 
 /// Random runs; the trace written is the run that came closest.
-fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
+pub fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
     let params = scene.params::<f64>();
     let patterns = SpeedPattern::ALL;
     let mc = scene_monte_carlo(&params, args.runs, args.seed, &patterns);

@@ -691,3 +691,66 @@ fn simulate_rejects_zero_runs_and_bad_input() {
         .code(2)
         .stderr(predicate::str::contains("missing.json"));
 }
+
+/// `simulate --replay` replays a checked certificate on its own problem: the problem argument
+/// may be left out, must be the certificate's when given, `--set` is refused, and a
+/// certificate that fails `check` is refused with the reason (issue 15: it used to replay the
+/// problem file given, with `--set` applied, and certificates that failed `check`).
+#[test]
+fn simulate_replay_checks_the_certificate_and_replays_its_own_problem() {
+    let dir = tmp();
+    let cert_path = write_seed_certificate(dir.path());
+    let cert: Certificate =
+        serde_json::from_str(&std::fs::read_to_string(&cert_path).unwrap()).unwrap();
+    let witness_sep = cert.witness.as_ref().unwrap().separation.unwrap();
+    // Without the problem: the certificate's own, replayed to its witness's separation.
+    let out = safereach(dir.path())
+        .args(["simulate", "--replay", "cert.json", "--json"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let sep = v["separation"].as_f64().unwrap();
+    assert!((sep - witness_sep).abs() <= 1e-12, "{sep} vs {witness_sep}");
+    // With its own problem file: the same.
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(seed_file())
+        .args(["--replay", "cert.json"])
+        .assert()
+        .code(0);
+    // Another problem file is refused, naming the key that differs.
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(problem_file("fast-obstacle.toml"))
+        .args(["--replay", "cert.json"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("environment.obstacle_speed"));
+    // --set changes the problem: refused (it used to replay a robot braking at 0.01 m/s² to
+    // "no collision").
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(seed_file())
+        .args(["--replay", "cert.json", "--set", "robot.braking=0.01"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--set"));
+    // A certificate that fails check: its s* moved out of its bracket and re-signed.
+    let mut forged = cert.clone();
+    forged.min_separation = Some(witness_sep + 0.5);
+    forged.digest = forged.compute_digest();
+    std::fs::write(
+        dir.path().join("forged.json"),
+        serde_json::to_string(&forged).unwrap(),
+    )
+    .unwrap();
+    safereach(dir.path())
+        .args(["simulate", "--replay", "forged.json"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("fails check").and(predicate::str::contains("bracket")));
+    // Neither a problem nor --replay: clap's usage error.
+    safereach(dir.path()).arg("simulate").assert().code(2);
+}
