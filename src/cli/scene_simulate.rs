@@ -9,6 +9,7 @@ use safereach::analysis::{RandomBehaviour, SpeedPattern, scene_monte_carlo};
 use safereach::core::num::Exact;
 use safereach::core::output::scene_trace_for_path;
 use safereach::core::scene::{Scene, simulate};
+use safereach::core::show::{up, value};
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::search_certificate::{exact_from_text, witness_starts};
 
@@ -118,7 +119,7 @@ pub fn replay(
             } else {
                 "no collision"
             },
-            sep.map(|s| format!("{s:.9} m"))
+            sep.map(|s| format!("{} m", value(s)))
                 .unwrap_or_else(|| "- (never in its lane while moving)".into())
         )?;
     }
@@ -147,7 +148,7 @@ pub fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Ex
         writeln!(out, "{}", serde_json::to_string(&mc)?)?;
     } else {
         let closest = match (&mc.min_separation, &mc.closest_obstacle) {
-            (Some(s), Some(o)) => format!("{s:.6} m to \"{o}\" (run {})", mc.closest_run),
+            (Some(s), Some(o)) => format!("{} m to \"{o}\" (run {})", up(*s, 6), mc.closest_run),
             _ => "- (no obstacle shared a lane with the moving robot)".into(),
         };
         writeln!(

@@ -10,6 +10,7 @@ use safereach::analysis;
 use safereach::core::model::Problem;
 use safereach::core::num::Exact;
 use safereach::core::output::trace_for_path;
+use safereach::core::show::{up, value};
 use safereach::core::simulate;
 use safereach::proof::certificate::Certificate;
 use safereach::proof::certificate_file::CertificateFile;
@@ -199,7 +200,7 @@ fn replay(
             } else {
                 "no collision"
             },
-            sep.map(|s| format!("{s:.9} m"))
+            sep.map(|s| format!("{} m", value(s)))
                 .unwrap_or_else(|| "- (never stopped)".into())
         )?;
     }
@@ -231,10 +232,16 @@ fn random(
     if json {
         writeln!(out, "{}", serde_json::to_string(&mc)?)?;
     } else {
+        // The least separation seen is an upper bound on s*: shown rounded up.
         writeln!(
             out,
-            "{}: {} runs (seed {}), {} collisions, minimum separation seen {:.6} m (run {})",
-            problem.name, mc.runs, mc.seed, mc.collisions, mc.min_separation, mc.closest_run
+            "{}: {} runs (seed {}), {} collisions, minimum separation seen {} m (run {})",
+            problem.name,
+            mc.runs,
+            mc.seed,
+            mc.collisions,
+            up(mc.min_separation, 6),
+            mc.closest_run
         )?;
     }
     Ok(Exit::fail_if(mc.collisions > 0))

@@ -10,6 +10,7 @@ use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar, exact_float};
 use crate::core::rational::Rational;
 use crate::core::semantics::{BrakeReason, Mode, StepRecord, World};
+use crate::core::show::denoised;
 
 /// One row of a trace: the state at a control-period start, or at the instant the robot
 /// came to rest.
@@ -217,14 +218,15 @@ pub fn replay_reacting_at(
 }
 
 /// The trace of a run: a row at every period start, and one at the instant the robot came
-/// to rest (or, after a collision, at the end of the colliding period).
+/// to rest (or, after a collision, at the end of the colliding period). Times are written
+/// without the noise of float arithmetic (k·dt is 2.3, not 2.3000000000000003).
 pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
     let mut rows = Vec::new();
     let last = run.records.len().saturating_sub(1);
     for (i, rec) in run.records.iter().enumerate() {
         let t = N::int(rec.k as i64) * params.dt.clone();
         rows.push(TraceRow {
-            t: t.as_f64(),
+            t: denoised(t.as_f64()),
             robot_position: rec.robot.position.as_f64(),
             robot_speed: rec.robot.speed.as_f64(),
             robot_mode: rec.robot.mode,
@@ -235,7 +237,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
         let end = &rec.motion.end;
         if let Some(g) = &rec.rest_gap {
             rows.push(TraceRow {
-                t: (t.clone() + rec.motion.moving_for.clone()).as_f64(),
+                t: denoised((t.clone() + rec.motion.moving_for.clone()).as_f64()),
                 robot_position: end.position.as_f64(),
                 robot_speed: 0.0,
                 robot_mode: Mode::Stop,
@@ -245,7 +247,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
             });
         } else if i == last && rec.collision && !rec.motion.came_to_rest() {
             rows.push(TraceRow {
-                t: (t + params.dt.clone()).as_f64(),
+                t: denoised((t + params.dt.clone()).as_f64()),
                 robot_position: end.position.as_f64(),
                 robot_speed: end.speed.as_f64(),
                 robot_mode: end.mode,
