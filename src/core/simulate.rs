@@ -10,7 +10,6 @@ use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar, exact_float};
 use crate::core::rational::Rational;
 use crate::core::semantics::{BrakeReason, Mode, StepRecord, World};
-use crate::core::show::denoised;
 
 /// One row of a trace: the state at a control-period start, or at the instant the robot
 /// came to rest.
@@ -226,7 +225,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
     for (i, rec) in run.records.iter().enumerate() {
         let t = N::int(rec.k as i64) * params.dt.clone();
         rows.push(TraceRow {
-            t: denoised(t.as_f64()),
+            t: t.shown_f64(),
             robot_position: rec.robot.position.as_f64(),
             robot_speed: rec.robot.speed.as_f64(),
             robot_mode: rec.robot.mode,
@@ -237,7 +236,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
         let end = &rec.motion.end;
         if let Some(g) = &rec.rest_gap {
             rows.push(TraceRow {
-                t: denoised((t.clone() + rec.motion.moving_for.clone()).as_f64()),
+                t: (t.clone() + rec.motion.moving_for.clone()).shown_f64(),
                 robot_position: end.position.as_f64(),
                 robot_speed: 0.0,
                 robot_mode: Mode::Stop,
@@ -247,7 +246,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
             });
         } else if i == last && rec.collision && !rec.motion.came_to_rest() {
             rows.push(TraceRow {
-                t: denoised((t + params.dt.clone()).as_f64()),
+                t: (t + params.dt.clone()).shown_f64(),
                 robot_position: end.position.as_f64(),
                 robot_speed: end.speed.as_f64(),
                 robot_mode: end.mode,

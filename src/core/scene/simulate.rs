@@ -7,7 +7,6 @@ use serde::{Deserialize, Serialize};
 use crate::core::num::{Exact, Scalar, exact_float};
 use crate::core::rational::Rational;
 use crate::core::semantics::{BrakeReason, Mode};
-use crate::core::show::denoised;
 use crate::core::simulate::TraceRow;
 
 use super::lateral::{LaneChangeEvent, Lateral};
@@ -418,7 +417,7 @@ fn push_rows<N: Scalar>(
         let (t, x, v, mode, gap) = state(step);
         rows.push(SceneTraceRow {
             row: TraceRow {
-                t: denoised(t.as_f64()),
+                t: t.shown_f64(),
                 robot_position: x.as_f64(),
                 robot_speed: v.as_f64(),
                 robot_mode: mode,
