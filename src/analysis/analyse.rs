@@ -18,6 +18,7 @@ use crate::core::simulate;
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::schedule::{Decomposition, Piece};
 pub use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
+use crate::proof::witness_schedule::replay_realises;
 
 /// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
 pub const WITNESS_MARGIN: f64 = 1e-7;
@@ -407,7 +408,9 @@ fn extract_witness(
             continue;
         };
         let (shift, speeds) = speeds_from_point(dec, piece, program, &x);
-        let witness = replay_witness(dec, *piece, shift, margin, speeds);
+        let Some(witness) = replay_witness(dec, *piece, shift, margin, speeds) else {
+            continue;
+        };
         let realised = if piece.has_objective() {
             witness
                 .separation
@@ -477,21 +480,29 @@ pub(crate) fn speeds_from_point(
     (shift, speeds)
 }
 
+/// The witness of `speeds` for `piece` shifted by `shift`, if its replay is a run of that
+/// piece (the check holds it to that: [`replay_realises`]).
 fn replay_witness(
     dec: &Decomposition,
     piece: Piece,
     shift: usize,
     margin: f64,
     mut speeds: Vec<f64>,
-) -> Witness {
+) -> Option<Witness> {
     let params = &dec.params;
-    let max_steps = piece.brake + shift + simulate::horizon(&params_f64(params));
+    // A pass-through runs on past its collision to the step T at which the robot sees the
+    // obstacle passed, so that its replay shows the schedule it claims.
+    let max_steps = if piece.has_objective() {
+        piece.brake + shift + simulate::horizon(&params_f64(params))
+    } else {
+        piece.brake + shift + 1
+    };
     speeds.resize(max_steps, quantised(&params.W));
     let aim = crate::proof::verdict::aim(&piece, shift);
-    let replay =
-        simulate::replay_reacting_at(params, &speeds, aim, max_steps, !piece.has_objective());
+    let replay = simulate::replay_reacting_at(params, &speeds, aim, max_steps, false);
+    replay_realises(params, &replay, &piece, shift).ok()?;
     speeds.truncate(replay.periods());
-    Witness {
+    Some(Witness {
         piece,
         shift,
         margin,
@@ -499,7 +510,7 @@ fn replay_witness(
         collides: replay.collided(),
         separation: replay.rest_gap().as_ref().map(f64_at_most),
         steps: replay.trace(),
-    }
+    })
 }
 
 /// The nearest-float version of exact parameters.

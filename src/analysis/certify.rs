@@ -9,6 +9,7 @@ use crate::proof::certificate::{Certificate, FORMAT, Proof, premises};
 use crate::proof::scene_certificate::{
     ObstacleProofs, SCENE_FORMAT, SceneCertificate, scene_premises,
 };
+use crate::proof::separation::{Bracket, stated};
 
 /// The proof written for one piece's outcome.
 fn proof(o: &PieceOutcome) -> Proof {
@@ -32,12 +33,16 @@ impl Certificate {
     /// The certificate of an analysis.
     pub fn from_analysis(a: &Analysis) -> Self {
         let proofs = a.outcomes.iter().map(proof).collect();
+        let lower_bound = a.lower_bound.as_ref().map(f64_at_most);
+        let bracket = Bracket::of(lower_bound, a.witness.as_ref().and_then(|w| w.separation));
+        let (min_separation, separation_tolerance) = stated(a.verdict, a.min_separation, bracket);
         let mut cert = Certificate {
             format: FORMAT.into(),
             verdict: a.verdict,
-            min_separation: a.min_separation,
+            min_separation,
+            separation_tolerance,
             never_stops: a.never_stops,
-            lower_bound: a.lower_bound.as_ref().map(f64_at_most),
+            lower_bound,
             clearance: a.problem.robot.clearance,
             premises: premises(&a.problem),
             witness: a.witness.clone(),
@@ -62,17 +67,20 @@ impl SceneCertificate {
                 obstacle: o.obstacle,
                 name: a.scene.obstacles[o.obstacle].name.clone(),
                 lower_bound: o.lower_bound.as_ref().map(f64_at_most),
-                min_separation: o.min_separation,
                 own: o.own.iter().map(proof).collect(),
                 bystanders: o.bystanders.iter().map(proof).collect(),
             })
             .collect();
+        let lower_bound = a.lower_bound.as_ref().map(f64_at_most);
+        let bracket = Bracket::of(lower_bound, a.witness.as_ref().and_then(|w| w.separation));
+        let (min_separation, separation_tolerance) = stated(a.verdict, a.min_separation, bracket);
         let mut cert = SceneCertificate {
             format: SCENE_FORMAT.into(),
             verdict: a.verdict,
-            min_separation: a.min_separation,
+            min_separation,
+            separation_tolerance,
             never_stops: a.never_stops,
-            lower_bound: a.lower_bound.as_ref().map(f64_at_most),
+            lower_bound,
             clearance: a.scene.robot.clearance,
             premises: scene_premises(&a.scene),
             witness: a.witness.clone(),

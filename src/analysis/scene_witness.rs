@@ -15,6 +15,7 @@ use crate::core::num::{Exact, f64_at_most};
 use crate::core::scene::simulate;
 use crate::proof::program::ProofKind;
 use crate::proof::scene_certificate::{SceneWitness, Trigger};
+use crate::proof::scene_check::scene_witness_realises;
 use crate::proof::scene_schedule::SceneDecomposition;
 use crate::proof::schedule::{Ending, Piece};
 
@@ -139,7 +140,7 @@ fn attempt(
         s.truncate(replay.periods());
     }
     let i = dec.obstacles[a].obstacle;
-    Some(SceneWitness {
+    let witness = SceneWitness {
         obstacle: i,
         lane: scene.obstacles[i].lane,
         piece: *piece,
@@ -149,5 +150,8 @@ fn attempt(
         collides: replay.collided(),
         separation: replay.separations()[i].as_ref().map(f64_at_most),
         steps: replay.trace(),
-    })
+    };
+    // Only a run of the piece it names (check holds it to that).
+    scene_witness_realises(&witness, &replay).ok()?;
+    Some(witness)
 }

@@ -10,7 +10,8 @@ use anyhow::{Context, Result};
 
 use safereach::analysis;
 use safereach::core::semantics::Mode;
-use safereach::proof::certificate::{self, Certificate};
+use safereach::core::show::{down, up, value};
+use safereach::proof::certificate::{self, Certificate, Premise};
 
 use super::exit::Exit;
 use super::input::{self, Input};
@@ -56,38 +57,45 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
     Ok(cert.verdict.into())
 }
 
-/// The human-readable answer: verdict, worst case, bound and premises.
+/// The human-readable answer: verdict, worst case, bound and premises. Bounds are shown
+/// rounded in their own direction, times and values without float noise
+/// ([`safereach::core::show`]).
 fn summary(cert: &Certificate) -> String {
     let mut s = format!("{}: {}\n", cert.problem.name, cert.verdict.as_str());
-    let sep = match (cert.min_separation, cert.never_stops) {
-        (_, true) => "-inf (the robot can miss the obstacle entirely and never brake)".to_string(),
-        (Some(x), _) => format!("{x:.6} m"),
-        (None, _) => "unknown (no worst case could be realised)".to_string(),
-    };
-    s += &format!("  worst-case minimum separation s* = {sep}\n");
-    match cert.lower_bound {
-        Some(lb) => {
-            s += &format!(
-                "  rigorous lower bound {lb:.9} m vs clearance {} m\n",
-                cert.clearance
-            )
-        }
-        None => s += "  no finite lower bound proved\n",
-    }
+    let witness_sep = cert.witness.as_ref().and_then(|w| w.separation);
+    s += &format!(
+        "  worst-case minimum separation s* = {}\n",
+        s_star_text(
+            cert.min_separation,
+            cert.never_stops,
+            cert.lower_bound,
+            witness_sep,
+            "-inf (the robot can miss the obstacle entirely and never brake)",
+        )
+    );
+    s += &lower_bound_text(cert.lower_bound, cert.clearance);
     if let Some(w) = &cert.witness {
         let brake = w.steps.iter().find(|r| r.robot_mode == Mode::Brake);
         let last = w.steps.last();
+        let end = match (last, w.separation) {
+            (Some(l), Some(r)) => format!(", ends at t = {} s with gap {} m", value(l.t), up(r, 9)),
+            (Some(l), None) => format!(", ends at t = {} s still moving", value(l.t)),
+            (None, _) => String::new(),
+        };
         s += &format!(
-            "  worst case: {}{}{}\n",
+            "  {}: {}{}{end}\n",
+            if cert.min_separation.is_some() {
+                "worst case"
+            } else {
+                "behaviour found"
+            },
             if w.collides {
                 "collides"
             } else {
                 "closest approach"
             },
             brake
-                .map(|b| format!(", robot brakes at t = {:.3} s", b.t))
-                .unwrap_or_default(),
-            last.map(|l| format!(", ends at t = {:.3} s with gap {:.6} m", l.t, l.gap))
+                .map(|b| format!(", robot brakes at t = {} s", value(b.t)))
                 .unwrap_or_default(),
         );
     }
@@ -95,13 +103,60 @@ fn summary(cert: &Certificate) -> String {
         "  pieces: {} ({} linear programs solved)\n",
         cert.pieces, cert.programs_solved
     );
-    s += "  premises:\n";
-    for p in &cert.premises {
+    s += &premises_text(&cert.premises);
+    s
+}
+
+/// The s* line's value: s* with its bracket (the proved bound rounded down, the witness's
+/// separation rounded up), −∞, or what is known when nothing pins s*.
+pub(super) fn s_star_text(
+    stated: Option<f64>,
+    never_stops: bool,
+    lower: Option<f64>,
+    witness: Option<f64>,
+    minus_infinity: &str,
+) -> String {
+    match (stated, never_stops, lower, witness) {
+        (_, true, ..) => minus_infinity.to_string(),
+        (Some(x), _, Some(b), Some(r)) => {
+            format!("{x:.6} m (between {} and {} m)", down(b, 9), up(r, 9))
+        }
+        (Some(x), ..) => format!("{x:.6} m"),
+        (None, _, Some(b), Some(r)) => format!(
+            "not pinned: at least {} m (proved), at most {} m (the behaviour found)",
+            down(b, 9),
+            up(r, 9)
+        ),
+        (None, _, Some(b), None) => format!("at least {} m (proved)", down(b, 9)),
+        (None, _, None, Some(r)) => format!(
+            "not pinned: no bound is proved; the behaviour found reaches {} m",
+            up(r, 9)
+        ),
+        (None, _, None, None) => "unknown (no worst case could be realised)".to_string(),
+    }
+}
+
+/// The lower-bound line: the bound rounded down, against the clearance.
+pub(super) fn lower_bound_text(lower: Option<f64>, clearance: f64) -> String {
+    match lower {
+        Some(lb) => format!(
+            "  rigorous lower bound {} m vs clearance {} m\n",
+            down(lb, 9),
+            value(clearance)
+        ),
+        None => "  no finite lower bound proved\n".to_string(),
+    }
+}
+
+/// The premises, one a line, each bound without float noise.
+pub(super) fn premises_text(premises: &[Premise]) -> String {
+    let mut s = "  premises:\n".to_string();
+    for p in premises {
         s += &format!(
             "    {:<21} {} {} {}\n",
             p.name,
             p.description(),
-            p.bound,
+            value(p.bound),
             p.unit()
         );
     }

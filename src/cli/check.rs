@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::verdict::Verdict;
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -16,18 +17,54 @@ use super::output::Output;
 pub struct CheckArgs {
     /// Certificate file (JSON).
     certificate: PathBuf,
+    /// Also require this verdict: a valid certificate of another verdict exits 1 (for
+    /// pipelines that must not go on unless, say, the problem is certified).
+    #[arg(long, value_name = "VERDICT")]
+    require: Option<RequiredVerdict>,
 }
 
-/// Runs `safereach check`: exit 0 valid, 1 invalid.
+/// A verdict `--require` can ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum RequiredVerdict {
+    /// Safe: a rigorous lower bound on s* above the clearance.
+    Certified,
+    /// Unsafe: a witness replayed exactly collides.
+    Refuted,
+    /// Neither.
+    Inconclusive,
+}
+
+impl RequiredVerdict {
+    pub(super) fn verdict(self) -> Verdict {
+        match self {
+            RequiredVerdict::Certified => Verdict::Certified,
+            RequiredVerdict::Refuted => Verdict::Refuted,
+            RequiredVerdict::Inconclusive => Verdict::Inconclusive,
+        }
+    }
+}
+
+/// Runs `safereach check`: exit 0 valid (and of the `--require`d verdict), 1 invalid or of
+/// another verdict.
 pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
     let path = &args.certificate;
     if let Ok(text) = std::fs::read_to_string(path)
         && super::region::is_map(&text)
     {
-        return super::region::check_file(path, &text, out);
+        return super::region::check_file(path, &text, args.require.map(|r| r.verdict()), out);
     }
     let cert = input::any_certificate(path, Unreadable::Reading)?;
     match cert.check() {
+        Ok(report) if args.require.is_some_and(|r| r.verdict() != report.verdict) => {
+            writeln!(
+                out,
+                "{}: valid, but its verdict is {}, not the required {}",
+                path.display(),
+                report.verdict.as_str(),
+                args.require.map_or("", |r| r.verdict().as_str()),
+            )?;
+            Ok(Exit::Fail)
+        }
         Ok(report) => {
             let over = match cert {
                 CertificateFile::Search(_) => {

@@ -7,7 +7,7 @@
 //! | command         | 0 ([`Exit::Pass`])            | 1 ([`Exit::Fail`])                      | 3 ([`Exit::Inconclusive`]) |
 //! |-----------------|-------------------------------|-----------------------------------------|----------------------------|
 //! | `certify`       | certified                     | refuted                                 | inconclusive               |
-//! | `check`         | the certificate is valid      | the certificate is invalid              |                            |
+//! | `check`         | the certificate is valid      | invalid, or not of the `--require`d verdict |                        |
 //! | `simulate`      | no collision                  | a collision (random runs or the replay) |                            |
 //! | `radius`        | every speed has a safe radius | some speed has none                     |                            |
 //! | `max-speed`     | some speed is certified       | none is                                 |                            |

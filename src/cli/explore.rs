@@ -8,6 +8,7 @@
 //! Exit codes: 0 safe, 1 collision, 3 inconclusive (state budget reached), 2 bad input or an
 //! internal error.
 
+use safereach::core::show::value;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -224,13 +225,13 @@ fn summary(problem: &Problem, result: &Exploration, trace: Option<&Path>) -> Str
         "-inf (some behaviour never brakes)".to_string()
     } else {
         match &result.min_separation {
-            Some(x) => format!("{:.9} m", x.to_f64().value()),
+            Some(x) => format!("{} m", value(x.to_f64().value())),
             None => "none (no behaviour moves and comes to rest)".into(),
         }
     };
     s += &format!(
         "  minimum separation over {over} behaviours: {sep} (clearance {} m)\n",
-        problem.robot.clearance
+        value(problem.robot.clearance)
     );
     if let Some(c) = &result.counterexample {
         let last = c.trace.last();
@@ -238,10 +239,14 @@ fn summary(problem: &Problem, result: &Exploration, trace: Option<&Path>) -> Str
             "  counterexample (shortest path, {} periods){}{}\n",
             c.periods(),
             brake_time(&c.trace)
-                .map(|t| format!(": robot brakes at t = {t:.3} s"))
+                .map(|t| format!(": robot brakes at t = {} s", value(t)))
                 .unwrap_or_else(|| ": robot never brakes".into()),
-            last.map(|r| format!(", collides by t = {:.3} s (gap {:.6} m)", r.t, r.gap))
-                .unwrap_or_default()
+            last.map(|r| format!(
+                ", collides by t = {} s (gap {} m)",
+                value(r.t),
+                value(r.gap)
+            ))
+            .unwrap_or_default()
         );
         s += &format!(
             "    obstacle speeds per period: {}\n",
@@ -316,9 +321,11 @@ fn run_grid(
         writeln!(out, "  first collision in period {k} (shortest path)")?;
     }
     match (result.min_separation_grid, sep) {
-        (Some(g), Some(m)) if result.verdict == ExploreVerdict::Safe => {
-            writeln!(out, "  minimum separation at rest: {g} units = {m:.9} m")?
-        }
+        (Some(g), Some(m)) if result.verdict == ExploreVerdict::Safe => writeln!(
+            out,
+            "  minimum separation at rest: {g} units = {} m",
+            value(m)
+        )?,
         _ => {}
     }
     Ok(result.verdict.into())

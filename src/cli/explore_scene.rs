@@ -2,6 +2,7 @@
 //! speed from its own finite set, through the scene's step function
 //! ([`safereach::crosscheck::explore::scene`]); the summary, the JSON and the trace.
 
+use safereach::core::show::value;
 use std::io::Write;
 use std::path::Path;
 
@@ -127,8 +128,10 @@ pub fn run_grid(
             match (s, g) {
                 (Some(s), Some(g)) => writeln!(
                     out,
-                    "  {:?} (lane {}): least separation {g} units = {s:.9} m",
-                    o.name, o.lane
+                    "  {:?} (lane {}): least separation {g} units = {} m",
+                    o.name,
+                    o.lane,
+                    value(*s)
                 )?,
                 _ => writeln!(
                     out,
@@ -200,17 +203,17 @@ fn story(scene: &Scene, path: &ScenePath) -> String {
         .iter()
         .map(|c| {
             format!(
-                "changes lane {} -> {} at t = {:.3} s",
+                "changes lane {} -> {} at t = {} s",
                 c.from,
                 c.to,
-                c.step as f64 * dt
+                value(c.step as f64 * dt)
             )
         })
         .collect();
     match outcome.brake {
         Some((k, reason)) => parts.push(format!(
-            "brakes at t = {:.3} s ({})",
-            k as f64 * dt,
+            "brakes at t = {} s ({})",
+            value(k as f64 * dt),
             serde_json::to_value(reason)
                 .ok()
                 .and_then(|v| v.as_str().map(str::to_string))
@@ -262,7 +265,7 @@ fn summary(scene: &Scene, result: &SceneExploration, trace: Option<&Path>) -> St
     };
     s += &format!(
         "  least separation over {over} behaviours: {least} (clearance {} m)\n",
-        scene.robot.clearance
+        value(scene.robot.clearance)
     );
     for (i, o) in result.obstacles.iter().enumerate() {
         let what = if o.unbounded {
@@ -299,11 +302,11 @@ fn summary(scene: &Scene, result: &SceneExploration, trace: Option<&Path>) -> St
             })
             .unwrap_or_default();
         s += &format!(
-            "  counterexample (shortest path, {} periods): {}, collides with {} by t = {:.3} s\n",
+            "  counterexample (shortest path, {} periods): {}, collides with {} by t = {} s\n",
             c.periods(),
             story(scene, c),
             hit.join(", "),
-            c.periods() as f64 * scene.robot.control_period
+            value(c.periods() as f64 * scene.robot.control_period)
         );
         s += "    obstacle speeds per period:\n";
         path_speeds(&mut s, c);

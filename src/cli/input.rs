@@ -8,7 +8,6 @@ use anyhow::{Context, Result};
 
 use safereach::core::model::Problem;
 use safereach::core::scene::Scene;
-use safereach::proof::certificate::Certificate;
 use safereach::proof::certificate_file::CertificateFile;
 
 /// Reads the problem file at `path` and applies `sets` (`dotted.key=value`, in order). The
@@ -81,12 +80,4 @@ pub enum Unreadable {
     Reading,
     /// `FILE: cannot read the certificate: <reason>`.
     CannotRead,
-}
-
-/// Reads and parses the certificate at `path` (JSON, as `certify --out` writes it). It is
-/// not checked here: that is `check`'s job, or the caller's.
-pub fn certificate(path: &Path, unreadable: Unreadable) -> Result<Certificate> {
-    let text = read_certificate(path, unreadable)?;
-    serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a safereach certificate", path.display()))
 }

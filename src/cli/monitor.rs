@@ -34,6 +34,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
+use safereach::core::show::value;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
 use safereach::monitor::{
     Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
@@ -510,7 +511,7 @@ impl Printer {
                 Status::Violated => format!("{} of {}", p.violations, plural(p.checks, "check")),
                 _ => plural(p.checks, "check"),
             };
-            let bound = format!("bound {} {}", p.bound, p.unit);
+            let bound = format!("bound {} {}", value(p.bound), p.unit);
             let reason = p
                 .reason
                 .as_deref()
@@ -589,7 +590,7 @@ fn scene_summary(out: &mut impl Write, scene: &SceneSummary) -> io::Result<()> {
         let assumed = if o.is_static {
             format!("lane {}, static", o.lane)
         } else {
-            format!("lane {}, W {} m/s", o.lane, o.max_speed)
+            format!("lane {}, W {} m/s", o.lane, value(o.max_speed))
         };
         let seen = match (o.seen, o.violations) {
             (false, _) => "not seen".to_string(),
@@ -610,7 +611,11 @@ fn margin_text(margin: Option<Margin>, unit: &str) -> String {
     match margin {
         Some(m) => {
             let sep = if unit.is_empty() { "" } else { " " };
-            format!(", smallest slack {}{sep}{unit} at t={}", m.slack, m.t)
+            format!(
+                ", smallest slack {}{sep}{unit} at t={}",
+                value(m.slack),
+                value(m.t)
+            )
         }
         None => String::new(),
     }
@@ -624,7 +629,9 @@ fn checks_text(out: &mut impl Write, checks: &[CheckSummary]) -> io::Result<()> 
             _ => plural(c.checks, "check"),
         };
         let bound = match (c.bound, c.check) {
-            (Some(b), _) => format!("bound {b} {}", c.unit).trim_end().to_string(),
+            (Some(b), _) => format!("bound {} {}", value(b), c.unit)
+                .trim_end()
+                .to_string(),
             (None, Check::ObstacleLane) => "bound each obstacle's lane".to_string(),
             (None, _) => "bound per sample".to_string(),
         };
@@ -653,15 +660,21 @@ fn describe(out: &mut impl Write, e: &Event, obstacle: Option<&str>) -> io::Resu
     let unit = e.check.unit();
     match (e.observed, e.bound) {
         // A lane has no unit.
-        (Some(o), Some(b)) if unit.is_empty() => {
-            write!(out, " observed {o} {} bound {b}", e.check.relation())?
-        }
+        (Some(o), Some(b)) if unit.is_empty() => write!(
+            out,
+            " observed {} {} bound {}",
+            value(o),
+            e.check.relation(),
+            value(b)
+        )?,
         (Some(o), Some(b)) => write!(
             out,
-            " observed {o} {unit} {} bound {b} {unit}",
-            e.check.relation()
+            " observed {} {unit} {} bound {} {unit}",
+            value(o),
+            e.check.relation(),
+            value(b)
         )?,
-        (Some(o), None) => write!(out, " observed {o} {unit}")?,
+        (Some(o), None) => write!(out, " observed {} {unit}", value(o))?,
         _ => {}
     }
     if let Some(d) = &e.detail {

@@ -7,10 +7,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use safereach::analysis::Verdict;
 use safereach::analysis::region_search::{RegionOptions, map_region};
 use safereach::analysis::report::region_plot;
 use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::parameter::Parameter;
+use safereach::core::show;
 use safereach::proof::region_check::{check_map, describe_box};
 use safereach::proof::region_map::{LeafVerdict, RegionMap};
 
@@ -164,11 +166,12 @@ fn describe(out: &mut Output, map: &RegionMap, whole: &ParamBox) -> Result<()> {
             .fold(f64::INFINITY, f64::min);
         writeln!(
             out,
-            "certified for every point of the box ({} leaf{}): s* >= {least:.6} m everywhere \
+            "certified for every point of the box ({} leaf{}): s* >= {} m everywhere \
              (clearance {} m)",
             map.leaves.len(),
             if map.leaves.len() == 1 { "" } else { "s" },
-            map.problem.robot.clearance
+            show::down(least, 6),
+            show::value(map.problem.robot.clearance)
         )?;
     } else {
         writeln!(
@@ -198,10 +201,34 @@ fn exit_of(map: &RegionMap) -> Exit {
 }
 
 /// `safereach check` of a map file (told apart by its format tag): exit 0 valid, 1 invalid.
-pub fn check_file(path: &Path, text: &str, out: &mut Output) -> Result<Exit> {
+/// With `require`, a valid map whose verdict for the whole box differs exits 1: certified
+/// when every leaf is, refuted when some leaf is, else inconclusive.
+pub fn check_file(
+    path: &Path,
+    text: &str,
+    require: Option<Verdict>,
+    out: &mut Output,
+) -> Result<Exit> {
     let map: RegionMap = serde_json::from_str(text)
         .map_err(|e| anyhow::anyhow!("{}: not a safereach region map: {e}", path.display()))?;
+    let whole = if map.all_certified() {
+        Verdict::Certified
+    } else if map.leaves.iter().any(|l| l.verdict == LeafVerdict::Refuted) {
+        Verdict::Refuted
+    } else {
+        Verdict::Inconclusive
+    };
     match check_map(&map) {
+        Ok(_) if require.is_some_and(|r| r != whole) => {
+            writeln!(
+                out,
+                "{}: valid, but its verdict for the whole box is {}, not the required {}",
+                path.display(),
+                whole.as_str(),
+                require.map_or("", Verdict::as_str),
+            )?;
+            Ok(Exit::Fail)
+        }
         Ok(report) => {
             writeln!(
                 out,

@@ -13,6 +13,9 @@ use safereach::core::semantics::Mode;
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::scene_certificate::SceneCertificate;
 
+use safereach::core::show::{down, up, value};
+
+use super::certify::{lower_bound_text, premises_text, s_star_text};
 use super::exit::Exit;
 use super::output::{Output, write_file};
 use super::search_summary::search_summary;
@@ -46,58 +49,55 @@ pub fn run(
     Ok(cert.verdict().into())
 }
 
-/// The human-readable answer.
+/// The human-readable answer (numbers as [`super::certify`] shows them).
 fn summary(cert: &SceneCertificate) -> String {
     let scene = &cert.scene;
     let mut s = format!("{}: {}\n", scene.name, cert.verdict.as_str());
-    let sep = match (cert.min_separation, cert.never_stops) {
-        (_, true) => "-inf (an obstacle can pass the robot while it never brakes)".to_string(),
-        (Some(x), _) => format!("{x:.6} m"),
-        (None, _) if cert.obstacles.is_empty() => {
-            "+inf (no obstacle shares the robot's lane)".to_string()
-        }
-        (None, _) => "unknown (no worst case could be realised)".to_string(),
+    let witness_sep = cert.witness.as_ref().and_then(|w| w.separation);
+    let sep = if cert.min_separation.is_none() && !cert.never_stops && cert.obstacles.is_empty() {
+        "+inf (no obstacle shares the robot's lane)".to_string()
+    } else {
+        s_star_text(
+            cert.min_separation,
+            cert.never_stops,
+            cert.lower_bound,
+            witness_sep,
+            "-inf (an obstacle can pass the robot while it never brakes)",
+        )
     };
     s += &format!("  worst-case minimum separation s* = {sep}\n");
-    match cert.lower_bound {
-        Some(lb) => {
-            s += &format!(
-                "  rigorous lower bound {lb:.9} m vs clearance {} m\n",
-                cert.clearance
-            )
-        }
-        None => s += "  no finite lower bound proved\n",
-    }
+    s += &lower_bound_text(cert.lower_bound, cert.clearance);
     if let Some(w) = &cert.witness {
         let worst = SceneWorstCase::from_witness(scene, w);
         let brake = w
             .steps
             .iter()
             .find(|r| r.row.robot_mode == Mode::Brake)
-            .map(|r| format!(", robot brakes at t = {:.3} s", r.row.t))
+            .map(|r| format!(", robot brakes at t = {} s", value(r.row.t)))
             .unwrap_or_default();
         s += &format!(
-            "  worst case: {}{brake}; {}\n",
-            worst.describe(),
-            if w.collides {
-                "collides".to_string()
+            "  {}: {}{brake}; {}\n",
+            if cert.min_separation.is_some() {
+                "worst case"
             } else {
-                format!("gap at rest {:.6} m", w.separation.unwrap_or(f64::NAN))
+                "behaviour found"
+            },
+            worst.describe(),
+            match (w.collides, w.separation) {
+                (true, _) => "collides".to_string(),
+                (false, Some(r)) => format!("gap at rest {} m", up(r, 9)),
+                (false, None) => "never at rest in its lane".to_string(),
             }
         );
     }
     s += "  per obstacle of the robot's lane (others are out of reach):\n";
     for o in &cert.obstacles {
-        let sep = o
-            .min_separation
-            .map_or("-".to_string(), |x| format!("{x:.6} m"));
         let bound = o
             .lower_bound
-            .map_or("none".to_string(), |x| format!("{x:.9} m"));
+            .map_or("none proved".to_string(), |x| format!("{} m", down(x, 9)));
         s += &format!(
-            "    {:<16} s* {:<14} bound {:<16} pieces {} own + {} bystander\n",
+            "    {:<16} separation >= {:<16} pieces {} own + {} bystander\n",
             format!("\"{}\"", o.name),
-            sep,
             bound,
             o.own.len(),
             o.bystanders.len()
@@ -108,15 +108,6 @@ fn summary(cert: &SceneCertificate) -> String {
         cert.pieces(),
         cert.programs_solved
     );
-    s += "  premises:\n";
-    for p in &cert.premises {
-        s += &format!(
-            "    {:<21} {} {} {}\n",
-            p.name,
-            p.description(),
-            p.bound,
-            p.unit()
-        );
-    }
+    s += &premises_text(&cert.premises);
     s
 }

@@ -9,27 +9,20 @@ use safereach::analysis::{RandomBehaviour, SpeedPattern, scene_monte_carlo};
 use safereach::core::num::Exact;
 use safereach::core::output::scene_trace_for_path;
 use safereach::core::scene::{Scene, simulate};
+use safereach::core::show::{up, value};
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::search_certificate::{exact_from_text, witness_starts};
 
 use super::exit::Exit;
-use super::input::{self, Unreadable};
 use super::output::{Output, write_file};
 use super::simulate::SimulateArgs;
 
-/// Runs `simulate` for a scene: exit 0 no collision, 1 a collision.
-pub fn run(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
-    match &args.replay {
-        Some(path) => replay(scene, path, args, out),
-        None if args.runs == 0 => anyhow::bail!("--runs must be at least 1"),
-        None => random(scene, args, out),
-    }
-}
-
-/// Replays a scene certificate's witness: every obstacle's speeds, period by period.
-fn replay(
+/// Replays a scene certificate's witness (checked by the caller) on its scene: every
+/// obstacle's speeds, period by period.
+pub fn replay(
     scene: &Scene,
     path: &std::path::Path,
+    cert: &CertificateFile,
     args: &SimulateArgs,
     out: &mut Output,
 ) -> Result<Exit> {
@@ -40,11 +33,10 @@ fn replay(
         )
     };
     let params = scene.params::<Exact>();
-    let (speeds, starts, obstacle) = match input::any_certificate(path, Unreadable::Reading)? {
+    let (speeds, starts, obstacle) = match cert {
         CertificateFile::Single(_) => anyhow::bail!(
-            "{}: a single-obstacle certificate; {} is a scene (replay it with its problem file)",
+            "{}: a single-obstacle certificate, not a scene's",
             path.display(),
-            scene.name
         ),
         CertificateFile::Scene(cert) => {
             let w = cert.witness.as_ref().with_context(no_witness)?;
@@ -127,7 +119,7 @@ fn replay(
             } else {
                 "no collision"
             },
-            sep.map(|s| format!("{s:.9} m"))
+            sep.map(|s| format!("{} m", value(s)))
                 .unwrap_or_else(|| "- (never in its lane while moving)".into())
         )?;
     }
@@ -135,7 +127,7 @@ fn replay(
 }
 
 /// Random runs; the trace written is the run that came closest.
-fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
+pub fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
     let params = scene.params::<f64>();
     let patterns = SpeedPattern::ALL;
     let mc = scene_monte_carlo(&params, args.runs, args.seed, &patterns);
@@ -156,7 +148,7 @@ fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> 
         writeln!(out, "{}", serde_json::to_string(&mc)?)?;
     } else {
         let closest = match (&mc.min_separation, &mc.closest_obstacle) {
-            (Some(s), Some(o)) => format!("{s:.6} m to \"{o}\" (run {})", mc.closest_run),
+            (Some(s), Some(o)) => format!("{} m to \"{o}\" (run {})", up(*s, 6), mc.closest_run),
             _ => "- (no obstacle shared a lane with the moving robot)".into(),
         };
         writeln!(

@@ -3,6 +3,9 @@
 //! (its lane changes and why it braked), and s* per obstacle.
 
 use safereach::core::semantics::BrakeReason;
+use safereach::core::show::{up, value};
+
+use super::certify::{lower_bound_text, premises_text};
 use safereach::proof::search_certificate::SearchCertificate;
 
 /// The summary `certify` prints for a search certificate.
@@ -14,17 +17,15 @@ pub fn search_summary(cert: &SearchCertificate) -> String {
             "-inf (the robot can drive on for ever in the lane of an obstacle ahead)".to_string()
         }
         (Some(x), _) => format!(
-            "{x:.6} m (exactly {})",
+            "{} m (exactly {})",
+            value(*x),
             cert.min_separation_exact.as_deref().unwrap_or("?")
         ),
         (None, _) => "+inf (the robot never moves in an obstacle's lane)".to_string(),
     };
     s += &format!("  worst-case minimum separation s* = {sep}\n");
-    if let Some(lb) = cert.lower_bound {
-        s += &format!(
-            "  rigorous lower bound {lb:.9} m vs clearance {} m\n",
-            cert.clearance
-        );
+    if cert.lower_bound.is_some() {
+        s += &lower_bound_text(cert.lower_bound, cert.clearance);
     }
     if let Some(w) = &cert.witness {
         let dt = scene.robot.control_period;
@@ -34,17 +35,17 @@ pub fn search_summary(cert: &SearchCertificate) -> String {
             .iter()
             .map(|c| {
                 format!(
-                    "changes from lane {} to lane {} at t = {:.3} s",
+                    "changes from lane {} to lane {} at t = {} s",
                     c.from,
                     c.to,
-                    c.step as f64 * dt
+                    value(c.step as f64 * dt)
                 )
             })
             .collect();
         story.push(match w.brake {
             Some((k, reason)) => format!(
-                "brakes at t = {:.3} s ({})",
-                k as f64 * dt,
+                "brakes at t = {} s ({})",
+                value(k as f64 * dt),
                 match reason {
                     BrakeReason::CollisionDanger => "collision danger",
                     BrakeReason::WrongAssumption => "an obstacle seen faster than V_a",
@@ -60,7 +61,10 @@ pub fn search_summary(cert: &SearchCertificate) -> String {
             if w.collides {
                 "collides".to_string()
             } else {
-                format!("separation {:.6} m", w.separation.unwrap_or(f64::NAN))
+                match w.separation {
+                    Some(r) => format!("separation {} m", up(r, 9)),
+                    None => "separation -inf".to_string(),
+                }
             }
         );
     }
@@ -68,7 +72,7 @@ pub fn search_summary(cert: &SearchCertificate) -> String {
     for o in &cert.obstacles {
         let sep = match (o.min_separation, o.unbounded) {
             (_, true) => "-inf".to_string(),
-            (Some(x), _) => format!("{x:.6} m"),
+            (Some(x), _) => format!("{} m", value(x)),
             (None, _) => "+inf (never in its lane while moving)".to_string(),
         };
         s += &format!(
@@ -82,15 +86,6 @@ pub fn search_summary(cert: &SearchCertificate) -> String {
         "  runs searched: {} ({} step starts), exactly, without a solver\n",
         cert.runs, cert.nodes
     );
-    s += "  premises:\n";
-    for p in &cert.premises {
-        s += &format!(
-            "    {:<21} {} {} {}\n",
-            p.name,
-            p.description(),
-            p.bound,
-            p.unit()
-        );
-    }
+    s += &premises_text(&cert.premises);
     s
 }

@@ -10,8 +10,11 @@ use safereach::analysis;
 use safereach::core::model::Problem;
 use safereach::core::num::Exact;
 use safereach::core::output::trace_for_path;
+use safereach::core::show::{up, value};
 use safereach::core::simulate;
 use safereach::proof::certificate::Certificate;
+use safereach::proof::certificate_file::CertificateFile;
+use serde_json::Value;
 
 use super::exit::Exit;
 use super::input::{self, Input, Unreadable};
@@ -21,18 +24,22 @@ use super::scene_simulate;
 /// Arguments of `safereach simulate`, as typed.
 #[derive(clap::Args)]
 pub struct SimulateArgs {
-    /// Problem file (TOML).
-    problem: PathBuf,
-    /// Override a key (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
+    /// Problem or scene file (TOML). With --replay it may be left out (the certificate's own
+    /// problem is replayed); given, it must be the certificate's problem.
+    #[arg(required_unless_present = "replay")]
+    problem: Option<PathBuf>,
+    /// Override a key (repeatable; not with --replay, which replays the certificate's problem
+    /// as it was certified).
+    #[arg(long = "set", value_name = "KEY=VALUE", conflicts_with = "replay")]
     sets: Vec<String>,
     /// Number of random runs.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, conflicts_with = "replay")]
     pub(super) runs: usize,
     /// Seed of the first run (run i uses seed + i).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, conflicts_with = "replay")]
     pub(super) seed: u64,
-    /// Replay this certificate's witness instead of random runs.
+    /// Replay this certificate's witness instead of random runs: the certificate is checked
+    /// first (one that fails `check` is refused), and its own problem is replayed.
     #[arg(long, value_name = "CERT")]
     pub(super) replay: Option<PathBuf>,
     /// Write the replayed run (or the random run that came closest): CSV, or JSON Lines for .jsonl.
@@ -43,40 +50,108 @@ pub struct SimulateArgs {
     pub(super) json: bool,
 }
 
-/// What to simulate, validated.
-enum Runs {
-    /// Replay the witness of the certificate read from `path`.
-    Replay {
-        path: PathBuf,
-        cert: Box<Certificate>,
-    },
-    /// `runs` (at least 1) random runs from `seed`.
-    Random { runs: usize, seed: u64 },
-}
-
 /// Runs `safereach simulate`: exit 0 no collision, 1 a collision.
 pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
-    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
-        Input::Problem(p) => p,
-        Input::Scene(scene) => {
-            return scene_simulate::run(&scene, &args, out);
+    if let Some(path) = &args.replay {
+        return replay_certificate(path, &args, out);
+    }
+    let path = args
+        .problem
+        .as_deref()
+        .context("a problem file is needed (or --replay CERT)")?;
+    if args.runs == 0 {
+        anyhow::bail!("--runs must be at least 1");
+    }
+    match input::problem_or_scene(path, &args.sets)? {
+        Input::Problem(p) => random(
+            &p,
+            args.runs,
+            args.seed,
+            args.trace.as_deref(),
+            args.json,
+            out,
+        ),
+        Input::Scene(scene) => scene_simulate::random(&scene, &args, out),
+    }
+}
+
+/// `--replay`: the certificate is read and checked (a certificate that fails `check` is
+/// refused: its witness proves nothing), the problem argument, if given, must be the
+/// certificate's, and the witness is replayed on the certificate's own problem.
+fn replay_certificate(path: &Path, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
+    let cert = input::any_certificate(path, Unreadable::Reading)?;
+    if let Err(e) = cert.check() {
+        anyhow::bail!(
+            "{}: the certificate fails check ({e}); only a valid certificate's witness is \
+             replayed",
+            path.display()
+        );
+    }
+    if let Some(problem) = &args.problem {
+        same_problem(problem, path, &cert)?;
+    }
+    let trace = args.trace.as_deref();
+    match &cert {
+        CertificateFile::Single(c) => replay(&c.problem, path, c, trace, args.json, out),
+        CertificateFile::Scene(c) => scene_simulate::replay(&c.scene, path, &cert, args, out),
+        CertificateFile::Search(c) => scene_simulate::replay(&c.scene, path, &cert, args, out),
+    }
+}
+
+/// Refuses a problem file that is not the certificate's problem, naming the first key
+/// that differs.
+fn same_problem(problem: &Path, cert_path: &Path, cert: &CertificateFile) -> Result<()> {
+    let given = match input::problem_or_scene(problem, &[])? {
+        Input::Problem(p) => serde_json::to_value(&p)?,
+        Input::Scene(s) => serde_json::to_value(&s)?,
+    };
+    let certified = match cert {
+        CertificateFile::Single(c) => serde_json::to_value(&c.problem)?,
+        CertificateFile::Scene(c) => serde_json::to_value(&c.scene)?,
+        CertificateFile::Search(c) => serde_json::to_value(&c.scene)?,
+    };
+    if let Some((key, here, there)) = first_difference(&given, &certified, String::new()) {
+        anyhow::bail!(
+            "{}: not the problem of {} ({key} is {here} in the file, {there} in the \
+             certificate); leave the problem out to replay the certificate's own",
+            problem.display(),
+            cert_path.display()
+        );
+    }
+    Ok(())
+}
+
+/// The first dotted key at which two JSON values differ, with both values as text ("absent"
+/// for a key only one has).
+fn first_difference(a: &Value, b: &Value, at: String) -> Option<(String, String, String)> {
+    let key = |k: &str| {
+        if at.is_empty() {
+            k.to_string()
+        } else {
+            format!("{at}.{k}")
         }
     };
-    let runs = match args.replay {
-        Some(path) => Runs::Replay {
-            cert: Box::new(input::certificate(&path, Unreadable::Reading)?),
-            path,
-        },
-        None if args.runs == 0 => anyhow::bail!("--runs must be at least 1"),
-        None => Runs::Random {
-            runs: args.runs,
-            seed: args.seed,
-        },
-    };
-    let trace = args.trace.as_deref();
-    match runs {
-        Runs::Replay { path, cert } => replay(&problem, &path, &cert, trace, args.json, out),
-        Runs::Random { runs, seed } => random(&problem, runs, seed, trace, args.json, out),
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+            keys.into_iter().find_map(|k| match (x.get(k), y.get(k)) {
+                (Some(p), Some(q)) => first_difference(p, q, key(k)),
+                (p, q) => {
+                    let show = |v: Option<&Value>| v.map_or("absent".into(), Value::to_string);
+                    Some((key(k), show(p), show(q)))
+                }
+            })
+        }
+        _ if a == b => None,
+        _ => Some((
+            if at.is_empty() {
+                "the problem".into()
+            } else {
+                at
+            },
+            a.to_string(),
+            b.to_string(),
+        )),
     }
 }
 
@@ -125,7 +200,7 @@ fn replay(
             } else {
                 "no collision"
             },
-            sep.map(|s| format!("{s:.9} m"))
+            sep.map(|s| format!("{} m", value(s)))
                 .unwrap_or_else(|| "- (never stopped)".into())
         )?;
     }
@@ -157,10 +232,16 @@ fn random(
     if json {
         writeln!(out, "{}", serde_json::to_string(&mc)?)?;
     } else {
+        // The least separation seen is an upper bound on s*: shown rounded up.
         writeln!(
             out,
-            "{}: {} runs (seed {}), {} collisions, minimum separation seen {:.6} m (run {})",
-            problem.name, mc.runs, mc.seed, mc.collisions, mc.min_separation, mc.closest_run
+            "{}: {} runs (seed {}), {} collisions, minimum separation seen {} m (run {})",
+            problem.name,
+            mc.runs,
+            mc.seed,
+            mc.collisions,
+            up(mc.min_separation, 6),
+            mc.closest_run
         )?;
     }
     Ok(Exit::fail_if(mc.collisions > 0))

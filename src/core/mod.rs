@@ -9,4 +9,5 @@ pub mod parameter;
 pub mod rational;
 pub mod scene;
 pub mod semantics;
+pub mod show;
 pub mod simulate;

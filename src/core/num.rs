@@ -35,6 +35,12 @@ pub trait Scalar:
     fn decimal(x: f64) -> Self;
     /// An `f64` within a few ulps (for display and traces; decisions never use it).
     fn as_f64(&self) -> f64;
+    /// The `f64` a trace shows: exact numbers carry no arithmetic noise, so it is
+    /// [`Scalar::as_f64`]; a float computed in floats (k·dt = 2.3000000000000003) has it
+    /// removed ([`crate::core::show::denoised`]).
+    fn shown_f64(&self) -> f64 {
+        self.as_f64()
+    }
     /// The smaller of two numbers.
     fn min_of(a: Self, b: Self) -> Self {
         if b < a { b } else { a }
@@ -46,6 +52,9 @@ pub trait Scalar:
 }
 
 impl Scalar for f64 {
+    fn shown_f64(&self) -> f64 {
+        crate::core::show::denoised(*self)
+    }
     fn zero() -> Self {
         0.0
     }
@@ -116,6 +125,17 @@ pub fn f64_at_most(r: &Exact) -> f64 {
     }
 }
 
+/// The least `f64` not below `r`: where a float must stay outside an exact bound from above
+/// (a width declared for an exact interval must not understate it).
+pub fn f64_at_least(r: &Exact) -> f64 {
+    let x = r.to_f64().value();
+    if x.is_finite() && exact_float(x) < *r {
+        x.next_up()
+    } else {
+        x
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -138,6 +158,8 @@ mod tests {
             let r = exact_decimal(x);
             assert!(exact_float(f64_at_most(&r)) <= r);
             assert!(exact_float(f64_at_most(&r).next_up()) > r);
+            assert!(exact_float(f64_at_least(&r)) >= r);
+            assert!(exact_float(f64_at_least(&r).next_down()) < r);
         }
     }
 }

@@ -14,6 +14,7 @@ use crate::core::semantics::{BrakeReason, Mode, StepRecord, World};
 /// One row of a trace: the state at a control-period start, or at the instant the robot
 /// came to rest.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TraceRow {
     /// Time (s).
     pub t: f64,
@@ -216,14 +217,15 @@ pub fn replay_reacting_at(
 }
 
 /// The trace of a run: a row at every period start, and one at the instant the robot came
-/// to rest (or, after a collision, at the end of the colliding period).
+/// to rest (or, after a collision, at the end of the colliding period). Times are written
+/// without the noise of float arithmetic (k·dt is 2.3, not 2.3000000000000003).
 pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
     let mut rows = Vec::new();
     let last = run.records.len().saturating_sub(1);
     for (i, rec) in run.records.iter().enumerate() {
         let t = N::int(rec.k as i64) * params.dt.clone();
         rows.push(TraceRow {
-            t: t.as_f64(),
+            t: t.shown_f64(),
             robot_position: rec.robot.position.as_f64(),
             robot_speed: rec.robot.speed.as_f64(),
             robot_mode: rec.robot.mode,
@@ -234,7 +236,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
         let end = &rec.motion.end;
         if let Some(g) = &rec.rest_gap {
             rows.push(TraceRow {
-                t: (t.clone() + rec.motion.moving_for.clone()).as_f64(),
+                t: (t.clone() + rec.motion.moving_for.clone()).shown_f64(),
                 robot_position: end.position.as_f64(),
                 robot_speed: 0.0,
                 robot_mode: Mode::Stop,
@@ -244,7 +246,7 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
             });
         } else if i == last && rec.collision && !rec.motion.came_to_rest() {
             rows.push(TraceRow {
-                t: (t + params.dt.clone()).as_f64(),
+                t: (t + params.dt.clone()).shown_f64(),
                 robot_position: end.position.as_f64(),
                 robot_speed: end.speed.as_f64(),
                 robot_mode: end.mode,

@@ -12,8 +12,12 @@
 //!    ([`Program::bound`](crate::proof::program::Program::bound)) and must equal the stated one;
 //!    infeasibility proofs must be positive;
 //! 4. the witness's obstacle speeds are replayed exactly through the semantics and must
-//!    reproduce the stated trace, collision and separation;
-//! 5. the verdict must follow: `certified` iff every piece is proved and the least bound
+//!    reproduce the stated trace, collision and separation, and be a run of the piece (and
+//!    shift) the witness names;
+//! 5. the stated s* must lie in its bracket — the proved lower bound and the witness's
+//!    separation — which may be no wider than the tolerance the certificate declares
+//!    ([`crate::proof::separation`]);
+//! 6. the verdict must follow: `certified` iff every piece is proved and the least bound
 //!    exceeds the clearance, `refuted` iff the witness collides.
 
 use serde::{Deserialize, Serialize};
@@ -28,10 +32,11 @@ use crate::proof::verdict::{Verdict, Witness};
 pub use crate::proof::check::{CheckReport, Invalid, check};
 
 /// The format tag written into every certificate.
-pub const FORMAT: &str = "safereach-certificate/1";
+pub const FORMAT: &str = "safereach-certificate/2";
 
 /// One piece's proof.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Proof {
     /// The piece.
     pub piece: Piece,
@@ -51,9 +56,16 @@ pub struct Certificate {
     pub format: String,
     /// The verdict.
     pub verdict: Verdict,
-    /// s*, the worst-case minimum separation (m); null when the robot may never stop
-    /// (s* = −∞) or no worst case could be realised.
+    /// s*, the worst-case minimum separation (m), inside its bracket [`lower_bound`,
+    /// `witness.separation`] ([`crate::proof::separation`]); null when the robot may never
+    /// stop (s* = −∞) or nothing pins it (no bound, no witness that stops, or a bracket
+    /// wider than a decided verdict may state).
+    ///
+    /// [`lower_bound`]: Certificate::lower_bound
     pub min_separation: Option<f64>,
+    /// How wide the s* bracket may be (m): 1e-6, or for an inconclusive certificate the
+    /// bracket's width rounded up when it is wider.
+    pub separation_tolerance: f64,
     /// The worst case is a robot that never brakes (s* = −∞).
     pub never_stops: bool,
     /// Rigorous lower bound on s*, rounded down (null: no finite bound is proved).

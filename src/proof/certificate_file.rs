@@ -17,13 +17,20 @@ pub use crate::proof::certificate::Certificate;
 /// A certificate of either kind.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CertificateFile {
-    /// One obstacle in the robot's lane (`safereach-certificate/1`).
+    /// One obstacle in the robot's lane (`safereach-certificate/2`).
     Single(Box<Certificate>),
-    /// A scene (`safereach-scene-certificate/1`).
+    /// A scene (`safereach-scene-certificate/2`).
     Scene(Box<SceneCertificate>),
-    /// A scene decided by the run search (`safereach-scene-search-certificate/1`).
+    /// A scene decided by the run search (`safereach-scene-search-certificate/2`).
     Search(Box<SearchCertificate>),
 }
+
+/// Format tags of earlier versions: their files lack fields today's check needs.
+const EARLIER_FORMATS: &[&str] = &[
+    "safereach-certificate/1",
+    "safereach-scene-certificate/1",
+    "safereach-scene-search-certificate/1",
+];
 
 /// Only the format tag, to choose the reader.
 #[derive(Deserialize)]
@@ -32,9 +39,17 @@ struct Tag {
 }
 
 impl CertificateFile {
-    /// Parses certificate JSON of either kind (strictly: unknown fields are refused).
+    /// Parses certificate JSON of either kind (strictly: unknown fields are refused, and a
+    /// certificate of an earlier format is named as such).
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
         let tag: Tag = serde_json::from_str(text)?;
+        if EARLIER_FORMATS.contains(&tag.format.as_str()) {
+            return Err(<serde_json::Error as serde::de::Error>::custom(format!(
+                "its format {:?} was written by an earlier safereach, before certificates \
+                 pinned s*; certify the problem again",
+                tag.format
+            )));
+        }
         if tag.format == SEARCH_FORMAT {
             return Ok(CertificateFile::Search(Box::new(serde_json::from_str(
                 text,

@@ -6,7 +6,9 @@ use crate::core::simulate;
 use crate::proof::certificate::{Certificate, FORMAT, Proof, premises};
 use crate::proof::program::ProofKind;
 use crate::proof::schedule::{Decomposition, Piece};
-use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
+use crate::proof::separation::{Bracket, check_stated};
+use crate::proof::verdict::{TRACE_TOLERANCE, Verdict, Witness};
+use crate::proof::witness_schedule::replay_realises;
 
 /// What `check` established.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,7 +55,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
             return invalid("min_separation or never_stops is stated without a witness behind it");
         }
         None => false,
-        Some(w) => check_witness(cert, w)?,
+        Some(w) => check_witness(cert, w, &dec)?,
     };
     let certified = lower
         .as_ref()
@@ -71,6 +73,17 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
             verdict.as_str()
         ));
     }
+    let bracket = Bracket::of(
+        cert.lower_bound,
+        cert.witness.as_ref().and_then(|w| w.separation),
+    );
+    check_stated(
+        verdict,
+        cert.min_separation,
+        cert.separation_tolerance,
+        bracket,
+    )
+    .map_err(Invalid)?;
     Ok(CheckReport {
         verdict,
         pieces: dec.pieces.len(),
@@ -106,8 +119,9 @@ fn check_proofs(cert: &Certificate, dec: &Decomposition) -> Result<Option<Exact>
     for (i, (proof, piece)) in cert.proofs.iter().zip(&dec.pieces).enumerate() {
         if proof.piece != *piece {
             return invalid(format!(
-                "proof {i} is for {:?}, but piece {i} is {piece:?}",
-                proof.piece
+                "proof {i} is for {}, but piece {i} of the problem is {}",
+                proof.piece.describe(),
+                piece.describe()
             ));
         }
         match check_proof(i, proof, piece, dec)? {
@@ -146,8 +160,8 @@ pub(crate) fn check_proof(
     };
     if proof.bound != Some(f64_at_most(&exact)) {
         return invalid(format!(
-            "proof {i}: stated bound {:?} but the multipliers prove {}",
-            proof.bound,
+            "proof {i}: stated bound {} but the multipliers prove {}",
+            shown(proof.bound),
             f64_at_most(&exact)
         ));
     }
@@ -163,9 +177,9 @@ pub(crate) fn check_proof(
 fn check_claims(cert: &Certificate, lower: Option<&Exact>) -> Result<(), Invalid> {
     if cert.lower_bound != lower.map(f64_at_most) {
         return invalid(format!(
-            "stated lower bound {:?}, proofs give {:?}",
-            cert.lower_bound,
-            lower.map(f64_at_most)
+            "stated lower bound {}, the proofs give {}",
+            shown(cert.lower_bound),
+            shown(lower.map(f64_at_most))
         ));
     }
     if cert.clearance != cert.problem.robot.clearance {
@@ -177,9 +191,15 @@ fn check_claims(cert: &Certificate, lower: Option<&Exact>) -> Result<(), Invalid
     Ok(())
 }
 
-/// Replays a witness exactly; returns whether it collides.
-fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
-    let params = cert.problem.params::<Exact>();
+/// An optional number in words: the number, or "none" (for null).
+pub(crate) fn shown(x: Option<f64>) -> String {
+    x.map_or_else(|| "none".to_string(), |x| x.to_string())
+}
+
+/// Replays a witness exactly; returns whether it collides. The replay must reproduce the
+/// stated trace, collision and separation, and be a run of the piece and shift it names.
+fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result<bool, Invalid> {
+    let params = &dec.params;
     let bound = &params.W;
     if let Some(k) = w
         .obstacle_speeds
@@ -188,8 +208,14 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }
+    if !dec.pieces.contains(&w.piece) {
+        return invalid(format!(
+            "the witness's piece ({}) is not a piece of the problem",
+            w.piece.describe()
+        ));
+    }
     let replay = simulate::replay_reacting_at(
-        &params,
+        params,
         &w.obstacle_speeds,
         w.aim(),
         w.obstacle_speeds.len(),
@@ -216,25 +242,12 @@ fn check_witness(cert: &Certificate, w: &Witness) -> Result<bool, Invalid> {
     if replay.collided() != w.collides {
         return invalid("witness collision flag differs from its exact replay");
     }
-    let sep = replay.rest_gap().as_ref().map(f64_at_most);
-    if sep.is_some() != w.separation.is_some()
-        || sep
-            .zip(w.separation)
-            .is_some_and(|(a, b)| (a - b).abs() > 1e-12)
-    {
+    if replay.rest_gap().as_ref().map(f64_at_most) != w.separation {
         return invalid("witness separation differs from its exact replay");
     }
-    match (cert.min_separation, w.separation) {
-        (Some(s), Some(r)) if !(r >= s - REPLAY_TOLERANCE && r - s <= REPLAY_TOLERANCE) => {
-            return invalid("min_separation is not reproduced by the witness");
-        }
-        (Some(s), _) if cert.lower_bound.is_some_and(|l| s < l - REPLAY_TOLERANCE) => {
-            return invalid("min_separation lies below the proved lower bound");
-        }
-        (None, Some(_)) if cert.never_stops => {
-            return invalid("never_stops, yet the witness stops");
-        }
-        _ => {}
+    replay_realises(params, &replay, &w.piece, w.shift).map_err(Invalid)?;
+    if cert.min_separation.is_none() && w.separation.is_some() && cert.never_stops {
+        return invalid("never_stops, yet the witness stops");
     }
     if cert.never_stops && (w.separation.is_some() || !w.collides) {
         return invalid("never_stops requires a witness that collides without stopping");

@@ -19,4 +19,6 @@ pub mod scene_search;
 pub mod schedule;
 pub mod search_certificate;
 pub mod search_check;
+pub mod separation;
 pub mod verdict;
+pub mod witness_schedule;

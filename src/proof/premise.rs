@@ -225,6 +225,7 @@ struct Written<'a> {
 
 /// A premise as read, before its name is known to be one of ours.
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct Read {
     name: String,
     description: String,

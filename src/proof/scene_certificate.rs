@@ -18,7 +18,7 @@ use crate::proof::schedule::Piece;
 use crate::proof::verdict::Verdict;
 
 /// The format tag written into every scene certificate.
-pub const SCENE_FORMAT: &str = "safereach-scene-certificate/1";
+pub const SCENE_FORMAT: &str = "safereach-scene-certificate/2";
 
 /// The proofs for one obstacle of the robot's lane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -30,8 +30,6 @@ pub struct ObstacleProofs {
     pub name: String,
     /// Rigorous lower bound on its separation, rounded down (null: not proved).
     pub lower_bound: Option<f64>,
-    /// Its worst-case separation as the analyser found it (null: none or −∞).
-    pub min_separation: Option<f64>,
     /// One proof per own piece, in decomposition order.
     pub own: Vec<Proof>,
     /// One proof per bystander piece, ascending by step.
@@ -40,7 +38,7 @@ pub struct ObstacleProofs {
 
 /// What made the robot brake in a bystander witness.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Trigger {
     /// The destination.
     Goal,
@@ -85,9 +83,15 @@ pub struct SceneCertificate {
     pub format: String,
     /// The verdict.
     pub verdict: Verdict,
-    /// s* over every obstacle (m); null when the robot may pass an obstacle unbraked or no
-    /// worst case was realised.
+    /// s* over every obstacle (m), inside its bracket [`lower_bound`, `witness.separation`]
+    /// ([`crate::proof::separation`]); null when the robot may pass an obstacle unbraked or
+    /// nothing pins it.
+    ///
+    /// [`lower_bound`]: SceneCertificate::lower_bound
     pub min_separation: Option<f64>,
+    /// How wide the s* bracket may be (m): 1e-6, or for an inconclusive certificate the
+    /// bracket's width rounded up when it is wider.
+    pub separation_tolerance: f64,
     /// The worst case is an obstacle passing while the robot never brakes (s* = −∞).
     pub never_stops: bool,
     /// Rigorous lower bound on s*, rounded down (null: no finite bound is proved).

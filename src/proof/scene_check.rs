@@ -15,14 +15,18 @@
 use crate::core::num::{Exact, Scalar, exact_decimal, exact_float, f64_at_most};
 use crate::core::scene::simulate;
 use crate::core::scene::simulate::SceneTraceRow;
+use crate::core::semantics::BrakeReason;
+use crate::proof::check::shown;
 use crate::proof::check::{CheckReport, Invalid, check_proof};
 use crate::proof::program::ProofKind;
 use crate::proof::scene_certificate::{
-    ObstacleProofs, SCENE_FORMAT, SceneCertificate, SceneWitness, scene_premises,
+    ObstacleProofs, SCENE_FORMAT, SceneCertificate, SceneWitness, Trigger, scene_premises,
 };
 use crate::proof::scene_schedule::SceneDecomposition;
-use crate::proof::schedule::Piece;
-use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict};
+use crate::proof::schedule::{Ending, Piece};
+use crate::proof::separation::{Bracket, check_stated};
+use crate::proof::verdict::{TRACE_TOLERANCE, Verdict};
+use crate::proof::witness_schedule::{RunSchedule, realises};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
     Err(Invalid(msg.into()))
@@ -107,6 +111,17 @@ pub fn check_scene(cert: &SceneCertificate) -> Result<CheckReport, Invalid> {
             verdict.as_str()
         ));
     }
+    let bracket = Bracket::of(
+        cert.lower_bound,
+        cert.witness.as_ref().and_then(|w| w.separation),
+    );
+    check_stated(
+        verdict,
+        cert.min_separation,
+        cert.separation_tolerance,
+        bracket,
+    )
+    .map_err(Invalid)?;
     Ok(CheckReport {
         verdict,
         pieces,
@@ -148,8 +163,9 @@ fn check_list(
         .map(|(i, (proof, piece))| {
             if proof.piece != *piece {
                 return invalid(format!(
-                    "obstacle {name:?}: {what} proof {i} is for {:?}, but the piece is {piece:?}",
-                    proof.piece
+                    "obstacle {name:?}: {what} proof {i} is for {}, but the piece is {}",
+                    proof.piece.describe(),
+                    piece.describe()
                 ));
             }
             check_proof(i, proof, piece, d)
@@ -188,7 +204,9 @@ fn check_obstacle_bound(name: &str, proofs: &ObstacleProofs) -> Result<(), Inval
     let expected = if unproved { None } else { least };
     if stated != expected {
         return invalid(format!(
-            "obstacle {name:?}: stated lower bound {stated:?}, its proofs give {expected:?}"
+            "obstacle {name:?}: stated lower bound {}, its proofs give {}",
+            shown(stated),
+            shown(expected)
         ));
     }
     Ok(())
@@ -206,9 +224,9 @@ pub fn least_start(dec: &SceneDecomposition) -> Exact {
 fn check_claims(cert: &SceneCertificate, lower: Option<&Exact>) -> Result<(), Invalid> {
     if cert.lower_bound != lower.map(f64_at_most) {
         return invalid(format!(
-            "stated lower bound {:?}, proofs give {:?}",
-            cert.lower_bound,
-            lower.map(f64_at_most)
+            "stated lower bound {}, the proofs give {}",
+            shown(cert.lower_bound),
+            shown(lower.map(f64_at_most))
         ));
     }
     if cert.clearance != cert.scene.robot.clearance {
@@ -264,19 +282,114 @@ fn check_witness(cert: &SceneCertificate, w: &SceneWitness) -> Result<bool, Inva
     if sep != w.separation {
         return invalid("witness separation differs from its exact replay");
     }
-    match (cert.min_separation, w.separation) {
-        (Some(s), Some(r)) if !(r >= s - REPLAY_TOLERANCE && r - s <= REPLAY_TOLERANCE) => {
-            return invalid("min_separation is not reproduced by the witness");
-        }
-        (Some(s), _) if cert.lower_bound.is_some_and(|l| s < l - REPLAY_TOLERANCE) => {
-            return invalid("min_separation lies below the proved lower bound");
-        }
-        _ => {}
-    }
+    check_scene_piece(cert, w, &replay).map_err(Invalid)?;
     if cert.never_stops && !w.collides {
         return invalid("never_stops requires a witness that collides");
     }
     Ok(replay.collided())
+}
+
+/// What a scene replay shows of scene obstacle `i`'s schedule.
+fn schedule_of(replay: &simulate::SceneReplay, i: usize) -> RunSchedule {
+    let run = &replay.run;
+    RunSchedule::of(
+        run.records.iter().map(|r| r.obstacles[i].seen.as_ref()),
+        run.outcome.brake,
+        &replay.params.robot.rho,
+        &replay.params.robot.V_a,
+    )
+}
+
+/// The shift by which a run realises a merged piece: read off the step the run shows for
+/// the piece's brake step (its brake, the obstacle seen passed, or the run's end).
+fn shift_of(piece: &Piece, run: &RunSchedule) -> usize {
+    if !piece.merged {
+        return 0;
+    }
+    let t = match (run.brake, run.passed) {
+        (Some((k, _)), _) => k,
+        (None, Some(k)) => k,
+        (None, None) => run.steps,
+    };
+    t.saturating_sub(piece.brake)
+}
+
+/// The scene witness is a run of the piece it names: one of its obstacle's pieces in the
+/// certificate (and a trigger piece of another obstacle of the lane), realised by the replay
+/// ([`scene_witness_realises`]).
+fn check_scene_piece(
+    cert: &SceneCertificate,
+    w: &SceneWitness,
+    replay: &simulate::SceneReplay,
+) -> Result<(), String> {
+    let proofs_of = |i: usize| cert.obstacles.iter().find(|o| o.obstacle == i);
+    let Some(own) = proofs_of(w.obstacle) else {
+        return Err("the witness's obstacle is not in the robot's lane".into());
+    };
+    let listed = if w.piece.ending == Ending::Bystander {
+        &own.bystanders
+    } else {
+        &own.own
+    };
+    if !listed.iter().any(|p| p.piece == w.piece) {
+        return Err(format!(
+            "the witness's piece ({}) is not a piece of obstacle {:?}",
+            w.piece.describe(),
+            own.name
+        ));
+    }
+    if let Some(Trigger::Obstacle { obstacle, piece }) = &w.trigger {
+        let listed = proofs_of(*obstacle)
+            .is_some_and(|o| *obstacle != w.obstacle && o.own.iter().any(|p| p.piece == *piece));
+        if !listed {
+            return Err(format!(
+                "the witness's trigger ({}) is not a piece of another obstacle of the lane",
+                piece.describe()
+            ));
+        }
+    }
+    scene_witness_realises(w, replay)
+}
+
+/// Whether a scene witness's replay is a run of its piece ([`realises`]): a bystander
+/// piece's robot brakes at its step for the stated trigger — the destination, or another
+/// obstacle through its own piece, which the replay realises too; other pieces name no
+/// trigger. (The analyser keeps only witnesses that pass, and `check` holds them to it.)
+pub fn scene_witness_realises(
+    w: &SceneWitness,
+    replay: &simulate::SceneReplay,
+) -> Result<(), String> {
+    let run = schedule_of(replay, w.obstacle);
+    realises(&w.piece, shift_of(&w.piece, &run), &run, true)?;
+    match (&w.trigger, w.piece.ending) {
+        (None, Ending::Bystander) => Err("a bystander witness must name its trigger".into()),
+        (None, _) => Ok(()),
+        (Some(_), ending) if ending != Ending::Bystander => {
+            Err("only a bystander witness names a trigger".into())
+        }
+        (Some(Trigger::Goal), _) => {
+            if run.brake == Some((w.piece.brake, BrakeReason::Destination)) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "the witness says the robot brakes for its destination at step {}, but its \
+                     replay does not",
+                    w.piece.brake
+                ))
+            }
+        }
+        (Some(Trigger::Obstacle { obstacle, piece }), _) => {
+            if piece.brake != w.piece.brake || *obstacle >= replay.params.obstacles.len() {
+                return Err(format!(
+                    "the witness's trigger ({}) does not fire at its brake step {}",
+                    piece.describe(),
+                    w.piece.brake
+                ));
+            }
+            let other = schedule_of(replay, *obstacle);
+            realises(piece, 0, &other, true).map_err(|e| format!("the witness's trigger: {e}"))
+        }
+    }
 }
 
 /// Whether a witness's stated trace is its replay's: the same rows, lanes and modes, every

@@ -104,6 +104,7 @@ pub enum Ending {
 
 /// One schedule piece: a set of behaviours whose worst case is one linear program.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Piece {
     /// First step whose observation is in the reaction area (only with the
     /// wrong-assumption guard active).
@@ -128,6 +129,32 @@ impl Piece {
     /// Whether the piece's objective is a separation (else it is a feasibility question).
     pub fn has_objective(&self) -> bool {
         self.ending != Ending::PassThrough
+    }
+
+    /// The piece in words, for messages: "braking on danger at step 253 (and every later
+    /// shift)".
+    pub fn describe(&self) -> String {
+        let mut s = format!(
+            "{} at step {}",
+            match self.ending {
+                Ending::Danger => "braking on danger",
+                Ending::WrongAssumption => "braking on a wrong assumption",
+                Ending::PassThrough => "passing through without braking",
+                Ending::Bystander => "braking for another reason",
+            },
+            self.brake
+        );
+        if let Some(e) = self.entry {
+            let when = if self.early { "by" } else { "at" };
+            s += &format!(", in the area {when} step {e}");
+        }
+        if self.detected {
+            s += ", first seen then";
+        }
+        if self.merged {
+            s += " (and every later shift)";
+        }
+        s
     }
 }
 

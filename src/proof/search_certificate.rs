@@ -21,10 +21,11 @@ use crate::proof::premise::Premise;
 use crate::proof::scene_certificate::scene_premises;
 use crate::proof::scene_search::tree::{Ending, TreeError};
 use crate::proof::scene_search::{SceneSearch, Separation, search_scene, worst_behaviour};
+use crate::proof::separation::SEPARATION_TOLERANCE;
 use crate::proof::verdict::Verdict;
 
 /// The format tag written into every search certificate.
-pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/1";
+pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/2";
 
 /// One obstacle's worst case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -85,6 +86,12 @@ pub struct SearchCertificate {
     pub min_separation: Option<f64>,
     /// s* exactly, as "p/q" (null as `min_separation`).
     pub min_separation_exact: Option<String>,
+    /// How wide the s* bracket [`lower_bound`, `witness.separation`] may be (m): 1e-6
+    /// ([`crate::proof::separation`]; s* itself is exact here, and the witness replays
+    /// within a nanometre of it).
+    ///
+    /// [`lower_bound`]: SearchCertificate::lower_bound
+    pub separation_tolerance: f64,
     /// s* = −∞.
     pub never_stops: bool,
     /// s* rounded down: a rigorous lower bound (null as `min_separation`).
@@ -194,6 +201,7 @@ pub fn certify_by_search(scene: &Scene) -> Result<SearchCertificate, SearchError
         verdict,
         min_separation: star.as_ref().map(|s| s.to_exact().to_f64().value()),
         min_separation_exact: star.as_ref().map(exact_text),
+        separation_tolerance: SEPARATION_TOLERANCE,
         never_stops,
         lower_bound: star.as_ref().map(|s| f64_at_most(&s.to_exact())),
         clearance: scene.robot.clearance,

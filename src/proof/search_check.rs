@@ -22,7 +22,8 @@ use crate::proof::search_certificate::{
     RunWitness, SEARCH_FORMAT, SearchCertificate, exact_from_text, exact_text,
     obstacle_separations, witness_starts,
 };
-use crate::proof::verdict::{REPLAY_TOLERANCE, Verdict};
+use crate::proof::separation::{Bracket, check_stated};
+use crate::proof::verdict::Verdict;
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
     Err(Invalid(msg.into()))
@@ -53,16 +54,23 @@ pub fn check_search(cert: &SearchCertificate) -> Result<CheckReport, Invalid> {
         .map_err(|e| Invalid(format!("the search of the certificate's scene failed: {e}")))?;
     let obstacles = obstacle_separations(scene, &search);
     if obstacles != cert.obstacles {
-        return invalid(format!(
-            "per-obstacle separations differ from the search: stated {:?}, found {:?}",
-            cert.obstacles
-                .iter()
-                .map(|o| (&o.name, &o.exact, o.unbounded))
-                .collect::<Vec<_>>(),
-            obstacles
-                .iter()
-                .map(|o| (&o.name, &o.exact, o.unbounded))
+        let list = |os: &[crate::proof::search_certificate::ObstacleSeparation]| {
+            os.iter()
+                .map(|o| {
+                    let sep = match (&o.exact, o.unbounded) {
+                        (_, true) => "-inf".to_string(),
+                        (Some(x), _) => x.clone(),
+                        (None, _) => "none".to_string(),
+                    };
+                    format!("{:?} {sep}", o.name)
+                })
                 .collect::<Vec<_>>()
+                .join(", ")
+        };
+        return invalid(format!(
+            "per-obstacle separations differ from the search: stated {}, found {}",
+            list(&cert.obstacles),
+            list(&obstacles)
         ));
     }
     let star = search.min_separation().cloned();
@@ -71,12 +79,15 @@ pub fn check_search(cert: &SearchCertificate) -> Result<CheckReport, Invalid> {
         || cert.lower_bound != star.as_ref().map(|s| f64_at_most(&s.to_exact()))
         || cert.min_separation != star.as_ref().map(|s| s.to_exact().to_f64().value())
     {
+        let show = |exact: Option<String>, never_stops: bool| match (exact, never_stops) {
+            (_, true) => "-inf (never_stops)".to_string(),
+            (Some(x), _) => x,
+            (None, _) => "none".to_string(),
+        };
         return invalid(format!(
-            "s* differs from the search: stated {:?} (never_stops {}), found {:?} (never_stops {})",
-            cert.min_separation_exact,
-            cert.never_stops,
-            star.as_ref().map(exact_text),
-            search.unbounded()
+            "s* differs from the search: stated {}, found {}",
+            show(cert.min_separation_exact.clone(), cert.never_stops),
+            show(star.as_ref().map(exact_text), search.unbounded())
         ));
     }
     if cert.nodes != search.stats.nodes || cert.runs != search.stats.leaves {
@@ -99,6 +110,17 @@ pub fn check_search(cert: &SearchCertificate) -> Result<CheckReport, Invalid> {
     if certified && collides {
         return invalid("s* is above the clearance but the witness collides");
     }
+    let bracket = Bracket::of(
+        cert.lower_bound,
+        cert.witness.as_ref().and_then(|w| w.separation),
+    );
+    check_stated(
+        verdict,
+        cert.min_separation,
+        cert.separation_tolerance,
+        bracket,
+    )
+    .map_err(Invalid)?;
     if verdict != cert.verdict {
         return invalid(format!(
             "stated verdict {}, the search and witness give {}",
@@ -190,17 +212,11 @@ fn check_witness(
     if sep != w.separation {
         return invalid("witness separation differs from its exact replay");
     }
-    match (star, w.separation) {
-        (Some(s), Some(r)) => {
-            let s = s.as_f64();
-            if !(r >= s - REPLAY_TOLERANCE && r - s <= REPLAY_TOLERANCE) {
-                return invalid("s* is not reproduced by the witness");
-            }
-        }
-        (None, _) if cert.never_stops && !w.collides => {
-            return invalid("never_stops requires a witness that collides");
-        }
-        _ => {}
+    if star.is_some() && w.separation.is_none() {
+        return invalid("s* is finite, but the witness's obstacle never stopped");
+    }
+    if star.is_none() && cert.never_stops && !w.collides {
+        return invalid("never_stops requires a witness that collides");
     }
     Ok(replay.collided())
 }

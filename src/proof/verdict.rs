@@ -36,6 +36,7 @@ impl Verdict {
 
 /// A concrete worst-case behaviour, replayed exactly.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Witness {
     /// The piece it comes from.
     pub piece: Piece,

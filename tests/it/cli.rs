@@ -691,3 +691,172 @@ fn simulate_rejects_zero_runs_and_bad_input() {
         .code(2)
         .stderr(predicate::str::contains("missing.json"));
 }
+
+/// `simulate --replay` replays a checked certificate on its own problem: the problem argument
+/// may be left out, must be the certificate's when given, `--set` is refused, and a
+/// certificate that fails `check` is refused with the reason (issue 15: it used to replay the
+/// problem file given, with `--set` applied, and certificates that failed `check`).
+#[test]
+fn simulate_replay_checks_the_certificate_and_replays_its_own_problem() {
+    let dir = tmp();
+    let cert_path = write_seed_certificate(dir.path());
+    let cert: Certificate =
+        serde_json::from_str(&std::fs::read_to_string(&cert_path).unwrap()).unwrap();
+    let witness_sep = cert.witness.as_ref().unwrap().separation.unwrap();
+    // Without the problem: the certificate's own, replayed to its witness's separation.
+    let out = safereach(dir.path())
+        .args(["simulate", "--replay", "cert.json", "--json"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let sep = v["separation"].as_f64().unwrap();
+    assert!((sep - witness_sep).abs() <= 1e-12, "{sep} vs {witness_sep}");
+    // With its own problem file: the same.
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(seed_file())
+        .args(["--replay", "cert.json"])
+        .assert()
+        .code(0);
+    // Another problem file is refused, naming the key that differs.
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(problem_file("fast-obstacle.toml"))
+        .args(["--replay", "cert.json"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("environment.obstacle_speed"));
+    // --set changes the problem: refused (it used to replay a robot braking at 0.01 m/s² to
+    // "no collision").
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(seed_file())
+        .args(["--replay", "cert.json", "--set", "robot.braking=0.01"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--set"));
+    // A certificate that fails check: its s* moved out of its bracket and re-signed.
+    let mut forged = cert.clone();
+    forged.min_separation = Some(witness_sep + 0.5);
+    forged.digest = forged.compute_digest();
+    std::fs::write(
+        dir.path().join("forged.json"),
+        serde_json::to_string(&forged).unwrap(),
+    )
+    .unwrap();
+    safereach(dir.path())
+        .args(["simulate", "--replay", "forged.json"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("fails check").and(predicate::str::contains("bracket")));
+    // Neither a problem nor --replay: clap's usage error.
+    safereach(dir.path()).arg("simulate").assert().code(2);
+}
+
+/// The numbers in the words of `text` that follow `marker` (e.g. every `t = X`).
+fn numbers_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
+    text.match_indices(marker)
+        .map(|(i, _)| {
+            let rest = &text[i + marker.len()..];
+            let end = rest
+                .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
+                .unwrap_or(rest.len());
+            &rest[..end]
+        })
+        .collect()
+}
+
+/// A shown decimal, read exactly.
+fn exact_shown(text: &str) -> safereach::core::num::Exact {
+    safereach::core::num::exact_decimal(text.parse().expect("a number"))
+}
+
+/// Issue 15: a lower bound is shown rounded down (0.3299999999993427 as 0.329999999, not
+/// 0.330000000), the witness's separation — an upper bound on s* — rounded up, and times
+/// without float noise (t = 44.1, never 44.10000000000001). Held against the certificate's
+/// own numbers, exactly.
+#[test]
+fn certify_shows_bounds_rounded_their_own_way_and_times_without_noise() {
+    use safereach::core::num::exact_float;
+    let dir = tmp();
+    let out = safereach(dir.path())
+        .arg("certify")
+        .arg(seed_file())
+        .args(["--out", "cert.json"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let text = stdout(&out);
+    let cert: Certificate =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cert.json")).unwrap())
+            .unwrap();
+    let nano = exact_shown("1e-9");
+    let lb = exact_float(cert.lower_bound.unwrap());
+    let shown_lb = numbers_after(&text, "rigorous lower bound ");
+    assert_eq!(shown_lb.len(), 1, "{text}");
+    let shown = exact_shown(shown_lb[0]);
+    assert!(shown <= lb && lb < shown + nano.clone(), "{text}");
+    // The s* bracket: the bound below, rounded down; the witness above, rounded up.
+    let r = exact_float(cert.witness.as_ref().unwrap().separation.unwrap());
+    let below = exact_shown(numbers_after(&text, "(between ")[0]);
+    let above = exact_shown(numbers_after(&text, " and ")[0]);
+    assert!(below <= lb && r <= above && above < r + nano, "{text}");
+    // Times are whole periods or the rest instant, shown as short decimals.
+    let dt = exact_shown("0.1");
+    for t in numbers_after(&text, "t = ") {
+        let digits = t.chars().filter(char::is_ascii_digit).count();
+        assert!(digits <= 15, "{t} in {text}");
+        let periods = exact_shown(t) / dt.clone();
+        assert_eq!(periods.clone().floor(), periods.ceil(), "{t} is k·dt");
+    }
+    assert!(
+        !text.contains("0000000000") && !text.contains("9999999999"),
+        "{text}"
+    );
+}
+
+/// Traces written by `simulate` carry times without float noise (each k·dt as its short
+/// decimal), so the monitor's `t=` lines have none either.
+#[test]
+fn simulated_traces_and_monitor_lines_have_times_without_noise() {
+    let dir = tmp();
+    safereach(dir.path())
+        .arg("simulate")
+        .arg(seed_file())
+        .args(["--runs", "20", "--trace", "run.csv"])
+        .assert()
+        .code(0);
+    let csv = std::fs::read_to_string(dir.path().join("run.csv")).unwrap();
+    let times: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert!(times.len() > 100);
+    let dt = exact_shown("0.1");
+    for (k, t) in times.iter().enumerate().take(times.len() - 1) {
+        // Every row but the rest instant is a period start: exactly k·dt, shown shortest.
+        assert_eq!(
+            exact_shown(t),
+            dt.clone() * safereach::core::num::Exact::from(k),
+            "{t}"
+        );
+    }
+    write_seed_certificate(dir.path());
+    let out = safereach(dir.path())
+        .args(["monitor", "--certificate", "cert.json", "run.csv"])
+        .assert()
+        .code(0)
+        .get_output()
+        .clone();
+    let text = stdout(&out);
+    for t in numbers_after(&text, "t=") {
+        assert!(
+            !t.contains("0000000000") && !t.contains("9999999999"),
+            "{t}"
+        );
+    }
+}

@@ -20,6 +20,7 @@ mod monitor_cli;
 mod monitor_real;
 mod monitor_scene;
 mod noise;
+mod pinning;
 mod radius;
 mod region;
 mod scene_analysis;

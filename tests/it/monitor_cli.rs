@@ -106,11 +106,20 @@ fn worked_example_certified_for_w_0_2_flagged_at_0_25() {
     for (i, row) in rows[..k].iter().enumerate() {
         assert_eq!(out[i], format!("t={} ok", row["t"]));
     }
-    let event = format!(
-        "t={t} VIOLATION obstacle_speed obstacle=0 observed {} m/s > bound 0.2 m/s -> brake (line {line})",
-        v.parse::<f64>().unwrap()
+    // The observed speed is shown without float noise: the file's value to 15 significant
+    // digits.
+    let head = format!("t={t} VIOLATION obstacle_speed obstacle=0 observed ");
+    let tail = format!(" m/s > bound 0.2 m/s -> brake (line {line})");
+    let shown = out[k]
+        .strip_prefix(&head)
+        .and_then(|rest| rest.strip_suffix(&tail))
+        .unwrap_or_else(|| panic!("{}", out[k]));
+    let (shown, speed) = (shown.parse::<f64>().unwrap(), v.parse::<f64>().unwrap());
+    assert!((shown - speed).abs() <= speed * 1e-14, "{shown} vs {speed}");
+    assert!(
+        format!("{shown:e}").trim_start_matches('-').len() <= 15 + 5,
+        "{shown}"
     );
-    assert_eq!(out[k], event);
     assert!(
         r.stdout
             .contains(&format!("first violation: t={t} obstacle_speed obstacle=0")),

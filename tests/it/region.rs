@@ -381,6 +381,15 @@ fn the_command_line_certifies_a_box_maps_and_checks() {
         .get_output()
         .clone();
     assert!(stdout(&out).contains("valid"), "{}", stdout(&out));
+    // A valid map with refuted leaves is not the whole box certified.
+    safereach(dir.path())
+        .args(["check", "map.json", "--require", "certified"])
+        .assert()
+        .code(1);
+    safereach(dir.path())
+        .args(["check", "map.json", "--require", "refuted"])
+        .assert()
+        .code(0);
     // An edited map is invalid (exit 1).
     let text = std::fs::read_to_string(dir.path().join("map.json")).unwrap();
     let edited = text.replacen("\"certified\"", "\"refuted\"", 1);

@@ -304,6 +304,7 @@ fn replay_with(
 
 /// One row of a scene trace: one obstacle at one instant, with the robot's lanes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(from = "FlatSceneTraceRow")]
 pub struct SceneTraceRow {
     /// The single-obstacle row's columns, for this obstacle.
     #[serde(flatten)]
@@ -317,6 +318,44 @@ pub struct SceneTraceRow {
     pub leaving_lane: Option<i32>,
     /// The obstacle's lane.
     pub obstacle_lane: i32,
+}
+
+/// A [`SceneTraceRow`] as it is read: every column named, so that an unknown one is refused
+/// (serde cannot refuse unknown fields beside a flattened struct).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FlatSceneTraceRow {
+    t: f64,
+    robot_position: f64,
+    robot_speed: f64,
+    robot_mode: Mode,
+    obstacle_position: f64,
+    obstacle_speed: f64,
+    gap: f64,
+    obstacle: String,
+    robot_lane: i32,
+    leaving_lane: Option<i32>,
+    obstacle_lane: i32,
+}
+
+impl From<FlatSceneTraceRow> for SceneTraceRow {
+    fn from(f: FlatSceneTraceRow) -> Self {
+        SceneTraceRow {
+            row: TraceRow {
+                t: f.t,
+                robot_position: f.robot_position,
+                robot_speed: f.robot_speed,
+                robot_mode: f.robot_mode,
+                obstacle_position: f.obstacle_position,
+                obstacle_speed: f.obstacle_speed,
+                gap: f.gap,
+            },
+            obstacle: f.obstacle,
+            robot_lane: f.robot_lane,
+            leaving_lane: f.leaving_lane,
+            obstacle_lane: f.obstacle_lane,
+        }
+    }
 }
 
 /// The trace of a scene run: for each obstacle, a row at every period start and one at the
@@ -378,7 +417,7 @@ fn push_rows<N: Scalar>(
         let (t, x, v, mode, gap) = state(step);
         rows.push(SceneTraceRow {
             row: TraceRow {
-                t: t.as_f64(),
+                t: t.shown_f64(),
                 robot_position: x.as_f64(),
                 robot_speed: v.as_f64(),
                 robot_mode: mode,

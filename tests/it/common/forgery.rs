@@ -7,7 +7,7 @@ use safereach::core::model::Position;
 use safereach::core::num::f64_at_most;
 use safereach::proof::certificate::{Certificate, check, premises};
 use safereach::proof::program::ProofKind;
-use safereach::proof::schedule::Decomposition;
+use safereach::proof::schedule::{Decomposition, Ending};
 use safereach::proof::verdict::Verdict;
 
 /// An edit to a certificate; `None` when it does not apply to this certificate.
@@ -302,6 +302,85 @@ pub const FORGERIES: &[(&str, Edit)] = &[
         }
         c.never_stops = true;
         c.min_separation = None;
+        Some(())
+    }),
+    // ---- s* against its bracket [lower_bound, witness.separation] ----
+    ("min_separation just above the witness's separation", |c| {
+        let r = c.witness.as_ref()?.separation?;
+        c.min_separation?;
+        c.min_separation = Some(r + 1e-9);
+        Some(())
+    }),
+    ("min_separation just below the proved lower bound", |c| {
+        let lb = c.lower_bound?;
+        c.min_separation?;
+        c.min_separation = Some(lb - 1e-9);
+        Some(())
+    }),
+    ("separation_tolerance widened", |c| {
+        c.separation_tolerance = 0.5;
+        Some(())
+    }),
+    ("separation_tolerance narrowed", |c| {
+        c.separation_tolerance /= 2.0;
+        Some(())
+    }),
+    ("min_separation stated without a proved lower bound", |c| {
+        if c.lower_bound.is_some() || c.min_separation.is_some() {
+            return None;
+        }
+        c.min_separation = Some(c.witness.as_ref()?.separation?);
+        Some(())
+    }),
+    // ---- the witness's piece and shift against its replay ----
+    ("the witness's shift moved up", |c| {
+        c.witness.as_mut()?.shift += 1;
+        Some(())
+    }),
+    ("the witness's shift moved down", |c| {
+        let w = c.witness.as_mut()?;
+        w.shift = w.shift.checked_sub(1)?;
+        Some(())
+    }),
+    ("the witness's piece moved a step later", |c| {
+        c.witness.as_mut()?.piece.brake += 1;
+        Some(())
+    }),
+    (
+        "the witness's piece moved a step later, its shift one less",
+        |c| {
+            let w = c.witness.as_mut()?;
+            w.shift = w.shift.checked_sub(1)?;
+            w.piece.brake += 1;
+            Some(())
+        },
+    ),
+    // (Danger and wrong-assumption pieces overlap: a run may be in both, so relabelling one
+    // as the other can be a true claim. Braking and not braking cannot both be.)
+    ("the witness's piece given another ending", |c| {
+        let piece = &mut c.witness.as_mut()?.piece;
+        piece.ending = match piece.ending {
+            Ending::PassThrough => Ending::Danger,
+            _ => Ending::PassThrough,
+        };
+        Some(())
+    }),
+    ("the witness's entry moved a step earlier", |c| {
+        let piece = &mut c.witness.as_mut()?.piece;
+        piece.entry = Some(piece.entry?.checked_sub(1)?);
+        Some(())
+    }),
+    ("the witness's entry moved a step later", |c| {
+        let piece = &mut c.witness.as_mut()?.piece;
+        piece.entry = Some(piece.entry? + 1);
+        Some(())
+    }),
+    ("the witness's piece unmerged", |c| {
+        let piece = &mut c.witness.as_mut()?.piece;
+        if !piece.merged {
+            return None;
+        }
+        piece.merged = false;
         Some(())
     }),
 ];
