@@ -10,3 +10,4 @@ pub mod scene;
 pub mod semantics;
 pub mod show;
 pub mod simulate;
+pub mod text_file;
