@@ -219,7 +219,7 @@ impl Grid {
     /// Loads a grid file and its base problem (validated).
     pub fn load(path: &Path) -> Result<Grid, GridError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| GridError::Read {
+        let text = crate::core::text_file::read_text(path).map_err(|source| GridError::Read {
             path: shown.clone(),
             source,
         })?;
@@ -228,10 +228,11 @@ impl Grid {
             reason: e.to_string(),
         })?;
         let base_path = path.parent().unwrap_or(Path::new(".")).join(&file.base);
-        let base_text = std::fs::read_to_string(&base_path).map_err(|source| GridError::Read {
-            path: format!("{shown}: base = {:?} ({})", file.base, base_path.display()),
-            source,
-        })?;
+        let base_text =
+            crate::core::text_file::read_text(&base_path).map_err(|source| GridError::Read {
+                path: format!("{shown}: base = {:?} ({})", file.base, base_path.display()),
+                source,
+            })?;
         let origin = base_path.display().to_string();
         let scene = match Problem::from_toml_str(&base_text, &origin) {
             Ok(_) => false,
@@ -243,6 +244,16 @@ impl Grid {
         };
         let mut axes = Vec::new();
         for (key, value) in file.axes {
+            if key.trim() != key || key.is_empty() {
+                // Overrides trim their key: " robot.braking" would be a second axis of
+                // robot.braking, silently doubling the cells.
+                return Err(GridError::Invalid {
+                    path: shown,
+                    reason: format!(
+                        "axes.{key:?}: a key may not be empty or start or end with a space"
+                    ),
+                });
+            }
             let toml::Value::Array(values) = value else {
                 return Err(GridError::Invalid {
                     path: shown,
@@ -263,6 +274,16 @@ impl Grid {
                 reason: "[axes] names no key".into(),
             });
         }
+        if axes
+            .iter()
+            .try_fold(1usize, |n, (_, v)| n.checked_mul(v.len()))
+            .is_none()
+        {
+            return Err(GridError::Invalid {
+                path: shown,
+                reason: "the axes make more cells than can be counted".into(),
+            });
+        }
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -277,10 +298,23 @@ impl Grid {
             seed: file.seed,
             scene,
         };
-        // Every value must make a valid problem: check each axis value once, up front.
+        // Every value must make a valid problem: check each axis value once, up front. The
+        // error names the grid file and the axis (the value reaches the problem as an
+        // override, whose own name would mislead).
         for (key, values) in &grid.axes {
             for v in values {
-                grid.input_with(&[(key.clone(), v.clone())])?;
+                if let Err(e) = grid.input_with(&[(key.clone(), v.clone())]) {
+                    let set = format!("--set {key}={v}");
+                    let reason = e.to_string();
+                    let reason = match reason.strip_prefix(&format!("{set}: ")) {
+                        Some(rest) => format!("axes.{key:?}, value {v}: {rest}"),
+                        None => reason,
+                    };
+                    return Err(GridError::Invalid {
+                        path: grid.path.display().to_string(),
+                        reason,
+                    });
+                }
             }
         }
         Ok(grid)

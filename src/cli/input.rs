@@ -10,12 +10,6 @@ use safereach::core::model::Problem;
 use safereach::core::scene::Scene;
 use safereach::proof::certificate_file::CertificateFile;
 
-/// Reads the problem file at `path` and applies `sets` (`dotted.key=value`, in order). The
-/// error names the file, or the override, the key and the reason.
-pub fn problem(path: &Path, sets: &[String]) -> Result<Problem> {
-    Ok(Problem::load_with_overrides(path, sets)?)
-}
-
 /// A file read as what it states: a single-obstacle problem (`[environment]`, read with all
 /// of today's checks, so it keeps today's answers and certificates) or a scene.
 pub enum Input {
@@ -49,7 +43,7 @@ pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
 
 /// Whether the file at `path` has a `scene` or `obstacle` table at its top level.
 fn scene_form(path: &Path) -> bool {
-    std::fs::read_to_string(path)
+    safereach::core::text_file::read_text(path)
         .ok()
         .and_then(|text| text.parse::<toml::Table>().ok())
         .is_some_and(|t| t.contains_key("scene") || t.contains_key("obstacle"))
@@ -64,7 +58,7 @@ pub fn any_certificate(path: &Path, unreadable: Unreadable) -> Result<Certificat
 }
 
 fn read_certificate(path: &Path, unreadable: Unreadable) -> Result<String> {
-    std::fs::read_to_string(path).with_context(|| match unreadable {
+    safereach::core::text_file::read_text(path).with_context(|| match unreadable {
         Unreadable::Reading => format!("reading {}", path.display()),
         Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
     })

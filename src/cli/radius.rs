@@ -1,6 +1,7 @@
 //! `safereach radius`: the smallest reaction radius that is still certified, per obstacle
 //! speed bound — where certification ends along ρ.
 
+use safereach::core::show::value;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -22,9 +23,10 @@ pub struct RadiusArgs {
     /// Override a key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Obstacle speed bounds W to answer for (comma-separated; default: the problem's).
-    #[arg(long, value_delimiter = ',')]
-    speeds: Vec<f64>,
+    /// Obstacle speed bounds W to answer for, in m/s (comma-separated, repeatable; default:
+    /// the problem's).
+    #[arg(long, value_name = "W,W,...", allow_hyphen_values = true)]
+    speeds: Vec<String>,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -39,24 +41,25 @@ pub struct RadiusArgs {
 
 /// Runs `safereach radius`: exit 0 when every speed has a safe radius, 1 otherwise.
 pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
+    let speeds = speed_list(&args.speeds)?;
     let base = match input::problem_or_scene(&args.problem, &args.sets)? {
         Input::Problem(p) => p,
-        Input::Scene(scene) => return scene_radius(&scene, &args, out),
+        Input::Scene(scene) => return scene_radius(&scene, &args, &speeds, out),
     };
     if args.obstacle.is_some() {
         anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");
     }
-    let speeds = if args.speeds.is_empty() {
+    let speeds = if speeds.is_empty() {
         vec![base.environment.obstacle_speed]
     } else {
-        args.speeds.clone()
+        speeds
     };
     let mut answers = Vec::new();
     let mut all = true;
     for &w in &speeds {
-        let mut sets = args.sets.clone();
-        sets.push(format!("environment.obstacle_speed={w}"));
-        let problem = input::problem(&args.problem, &sets)?;
+        let mut problem = base.clone();
+        problem.environment.obstacle_speed = w;
+        problem.validate(&format!("--speeds {}", value(w)))?;
         let b = radius::safe_radius(&problem).context("radius search failed")?;
         all &= b.value.is_some();
         if let (Some(dir), Some(a)) = (&args.certificates, &b.certified) {
@@ -81,9 +84,37 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
     Ok(Exit::fail_if(!all))
 }
 
+/// The speeds of every `--speeds` list, in order: each element a finite number (an empty
+/// element, as in `0.1,,0.2`, is an error, not skipped); the range is the problem's check.
+fn speed_list(lists: &[String]) -> Result<Vec<f64>> {
+    let mut speeds = Vec::new();
+    for list in lists {
+        for (i, element) in list.split(',').enumerate() {
+            let element = element.trim();
+            let at = format!("--speeds {list}: element {}", i + 1);
+            if element.is_empty() {
+                anyhow::bail!("{at} is empty");
+            }
+            let w: f64 = element
+                .parse()
+                .map_err(|_| anyhow::anyhow!("{at} (`{element}`) is not a number"))?;
+            if !w.is_finite() {
+                anyhow::bail!("{at} (`{element}`) is not a finite number");
+            }
+            speeds.push(w);
+        }
+    }
+    Ok(speeds)
+}
+
 /// `radius` on a scene: per speed bound (given to every moving obstacle, or to the one
 /// `--obstacle` names), the smallest certified reaction radius up to the sensing range.
-fn scene_radius(scene: &Scene, args: &RadiusArgs, out: &mut Output) -> Result<Exit> {
+fn scene_radius(
+    scene: &Scene,
+    args: &RadiusArgs,
+    speeds: &[f64],
+    out: &mut Output,
+) -> Result<Exit> {
     let target = match &args.obstacle {
         Some(name) => Some(
             scene
@@ -95,10 +126,10 @@ fn scene_radius(scene: &Scene, args: &RadiusArgs, out: &mut Output) -> Result<Ex
         None => None,
     };
     let moving = |i: usize| !scene.obstacles[i].is_static && target.is_none_or(|t| t == i);
-    let speeds = if args.speeds.is_empty() {
+    let speeds: Vec<Option<f64>> = if speeds.is_empty() {
         vec![None]
     } else {
-        args.speeds.iter().map(|&w| Some(w)).collect()
+        speeds.iter().map(|&w| Some(w)).collect()
     };
     let mut answers = Vec::new();
     let mut all = true;
@@ -108,7 +139,7 @@ fn scene_radius(scene: &Scene, args: &RadiusArgs, out: &mut Output) -> Result<Ex
             for i in (0..s.obstacles.len()).filter(|&i| moving(i)) {
                 s.obstacles[i].max_speed = w;
             }
-            s.validate(&format!("--speeds {w}"))?;
+            s.validate(&format!("--speeds {}", value(w)))?;
         }
         let r = safereach::analysis::scene_radius::scene_radius(&s)
             .map_err(|e| anyhow::anyhow!("{}: {e}", s.name))?;

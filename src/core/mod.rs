@@ -11,3 +11,4 @@ pub mod scene;
 pub mod semantics;
 pub mod show;
 pub mod simulate;
+pub mod text_file;

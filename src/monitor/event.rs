@@ -68,6 +68,8 @@ pub enum Detail {
     DuplicateColumn(Field),
     /// A CSV data line with no usable header before it.
     NoHeader,
+    /// The first CSV line is data (it starts with a number), not a header.
+    HeaderIsData,
     /// A line longer than the reader accepts.
     LineTooLong {
         /// Longest accepted line (bytes).
@@ -125,6 +127,10 @@ impl fmt::Display for Detail {
             }
             Detail::DuplicateColumn(field) => write!(f, "the header names {field} twice"),
             Detail::NoHeader => f.write_str("no usable CSV header before this line"),
+            Detail::HeaderIsData => f.write_str(
+                "the first line is data, not a header: name the columns of a CSV without a \
+                 header with --columns (e.g. --columns t,robot_x,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_v)",
+            ),
             Detail::LineTooLong { limit } => write!(f, "line longer than {limit} bytes"),
             Detail::Csv(what) => write!(f, "not a CSV row: {what}"),
             Detail::Json(what) => write!(f, "not a JSON sample: {what}"),

@@ -135,10 +135,9 @@ const CASES: &[Case] = &[
         what: "latency as float",
         edits: &[("latency = 1", "latency = 1.5")],
         expect: &[
-            "bad.toml: ",
-            "floating point `1.5`",
-            "expected u32",
-            "line 8",
+            "bad.toml: robot.latency = 1.5: ",
+            "expected a whole number >= 0 of control periods, got 1.5",
+            "bad.toml:8:11",
         ],
         key: Some("robot.latency"),
         line: Some(8),
@@ -146,7 +145,9 @@ const CASES: &[Case] = &[
     Case {
         what: "negative latency",
         edits: &[("latency = 1", "latency = -1")],
-        expect: &["bad.toml: ", "integer `-1`", "expected u32"],
+        expect: &[
+            "bad.toml: robot.latency = -1: expected a whole number >= 0 of control periods, got -1",
+        ],
         key: Some("robot.latency"),
         line: Some(8),
     },
@@ -160,7 +161,9 @@ const CASES: &[Case] = &[
     Case {
         what: "number as string",
         edits: &[("max_speed = 0.8", "max_speed = \"0.8\"")],
-        expect: &["bad.toml: ", "invalid type: string \"0.8\", expected f64"],
+        expect: &[
+            "bad.toml: robot.max_speed = \"0.8\": expected a number in m/s, got the text \"0.8\"",
+        ],
         key: Some("robot.max_speed"),
         line: Some(4),
     },
@@ -212,10 +215,9 @@ const CASES: &[Case] = &[
         what: "bad danger rule",
         edits: &[("danger_rule = \"paper\"", "danger_rule = \"fast\"")],
         expect: &[
-            "bad.toml: ",
-            "unknown variant `fast`",
-            "`paper`, `kinematic`, `area`",
-            "line 14",
+            "bad.toml: controller.danger_rule = \"fast\": ",
+            "expected one of paper, kinematic, area, got the text \"fast\"",
+            "bad.toml:14:",
         ],
         key: Some("controller.danger_rule"),
         line: Some(14),
@@ -410,8 +412,7 @@ fn bad_overrides_are_rejected_with_their_reason() {
         (
             &["robot.latency=2.5"],
             &[
-                "--set robot.latency=2.5: robot.latency = 2.5: ",
-                "expected u32",
+                "--set robot.latency=2.5: robot.latency = 2.5: expected a whole number >= 0 of control periods, got 2.5",
             ],
             Some("robot.latency"),
         ),
@@ -423,24 +424,21 @@ fn bad_overrides_are_rejected_with_their_reason() {
         (
             &["environment.obstacle_speed=\"0.25\""],
             &[
-                "--set environment.obstacle_speed=\"0.25\": ",
-                "expected f64",
+                "--set environment.obstacle_speed=\"0.25\": environment.obstacle_speed = \"0.25\": expected a number in m/s, got the text \"0.25\"",
             ],
             Some("environment.obstacle_speed"),
         ),
         (
             &["controller.wrong_assumption_brake=yes"],
             &[
-                "--set controller.wrong_assumption_brake=yes: ",
-                "not a TOML value",
+                "--set controller.wrong_assumption_brake=yes: controller.wrong_assumption_brake = yes: expected true or false, got `yes`",
             ],
             Some("controller.wrong_assumption_brake"),
         ),
         (
             &["controller.danger_rule=fast"],
             &[
-                "--set controller.danger_rule=fast: ",
-                "unknown variant `fast`",
+                "--set controller.danger_rule=fast: controller.danger_rule = fast: expected one of paper, kinematic, area, got the text \"fast\"",
             ],
             Some("controller.danger_rule"),
         ),

@@ -11,6 +11,7 @@ mod common;
 
 mod analysis;
 mod bad_input;
+mod bad_input_cli;
 mod certificate;
 mod cli;
 mod explore;

@@ -4,6 +4,7 @@
 
 use std::ops::Range;
 
+use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use crate::core::model::error::{Location, ProblemError};
@@ -12,12 +13,20 @@ use crate::core::model::overrides::PathStep;
 
 /// The span of the value at dotted `key` in `doc`.
 pub(crate) fn value_span(doc: &DeTable<'_>, key: &str) -> Option<Range<usize>> {
+    value_at(doc, key).map(Spanned::span)
+}
+
+/// The value at dotted `key` in `doc`, if the document has it.
+pub(crate) fn value_at<'d, 's>(
+    doc: &'d DeTable<'s>,
+    key: &str,
+) -> Option<&'d Spanned<DeValue<'s>>> {
     let mut table = doc;
     let mut parts = key.split('.').peekable();
     while let Some(part) = parts.next() {
         let value = table.get(part)?;
         if parts.peek().is_none() {
-            return Some(value.span());
+            return Some(value);
         }
         match value.get_ref() {
             DeValue::Table(t) => table = t,
@@ -90,10 +99,25 @@ pub(crate) fn parse_error(
             _ => missing.to_string(),
         });
     }
+    let mut message = error.to_string().trim_end().to_string();
+    let mut line = line;
+    if error.span().is_none() && error.message().contains("recursion limit") {
+        // toml says neither where nor why: name the most deeply nested line.
+        let deepest = text
+            .lines()
+            .enumerate()
+            .max_by_key(|(_, l)| l.matches(['.', '[', '{']).count())
+            .map_or(1, |(i, _)| i + 1);
+        line = Some(deepest);
+        message = format!(
+            "line {deepest}: nested too deeply for the TOML reader (a key or value with too \
+             many parts)"
+        );
+    }
     ProblemError::Parse {
         origin: origin.to_string(),
         key,
         line,
-        message: error.to_string().trim_end().to_string(),
+        message,
     }
 }

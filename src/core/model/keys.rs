@@ -7,7 +7,6 @@ use toml::Spanned;
 use toml::de::{DeValue, ValueDeserializer};
 
 use crate::core::model::DangerRule;
-use crate::core::model::error::with_article;
 
 /// Largest magnitude accepted for any number in a problem.
 pub(crate) const MAX_MAGNITUDE: f64 = 1e9;
@@ -39,45 +38,73 @@ pub(crate) enum Kind {
 }
 
 impl Kind {
-    /// Whether `value` reads as a value of this kind; the reason in serde's words if not.
-    pub(crate) fn check(self, value: Spanned<DeValue<'_>>) -> Result<(), String> {
-        fn check<T: DeserializeOwned>(value: Spanned<DeValue<'_>>) -> Result<(), String> {
-            T::deserialize(ValueDeserializer::from(value))
-                .map(drop)
-                .map_err(|e| e.message().trim_end().to_string())
-        }
+    /// What a value of this kind is, in the user's words.
+    pub(crate) fn expected(self) -> &'static str {
         match self {
-            Kind::Text => check::<String>(value),
-            Kind::Number => check::<f64>(value),
-            Kind::Count => check::<u32>(value),
-            Kind::Rule => check::<DangerRule>(value),
-            Kind::Flag => check::<bool>(value),
-            Kind::Lane => check::<i32>(value),
-            Kind::Lanes => check::<Vec<i32>>(value),
-            Kind::Position => {
-                const EXPECTED: &str = "expected a number or a range [min, max]";
-                let number = |v: &DeValue<'_>| matches!(v, DeValue::Integer(_) | DeValue::Float(_));
-                let found = match value.get_ref() {
-                    DeValue::Array(items) if items.len() != 2 => {
-                        Some(format!("an array of {} values", items.len()))
-                    }
-                    DeValue::Array(items) => items.iter().find(|x| !number(x.get_ref())).map(|x| {
-                        format!(
-                            "a range with {} in it",
-                            with_article(x.get_ref().type_str())
-                        )
-                    }),
-                    v if number(v) => None,
-                    v => Some(with_article(v.type_str())),
+            Kind::Text => "text",
+            Kind::Number => "a number",
+            Kind::Count => "a whole number >= 0",
+            Kind::Rule => "one of paper, kinematic, area",
+            Kind::Flag => "true or false",
+            Kind::Lane => "a lane (a whole number)",
+            Kind::Lanes => "a list of lanes (whole numbers), e.g. [0, 1]",
+            Kind::Position => "a number or a range [min, max]",
+        }
+    }
+
+    /// Whether `value` reads as a value of this kind; if not, the reason in the user's words
+    /// ("expected a number, got the text \"fast\"").
+    pub(crate) fn check(self, value: Spanned<DeValue<'_>>) -> Result<(), String> {
+        fn reads<T: DeserializeOwned>(value: &Spanned<DeValue<'_>>) -> bool {
+            T::deserialize(ValueDeserializer::from(value.clone())).is_ok()
+        }
+        let ok = match self {
+            Kind::Text => reads::<String>(&value),
+            Kind::Number => reads::<f64>(&value),
+            Kind::Count => reads::<u32>(&value),
+            Kind::Rule => reads::<DangerRule>(&value),
+            Kind::Flag => reads::<bool>(&value),
+            Kind::Lane => reads::<i32>(&value),
+            Kind::Lanes => reads::<Vec<i32>>(&value),
+            Kind::Position => reads::<crate::core::model::Position>(&value),
+        };
+        if ok {
+            return Ok(());
+        }
+        let got = match (self, value.get_ref()) {
+            (Kind::Position, DeValue::Array(items)) if items.len() != 2 => {
+                format!("a list of {} values", items.len())
+            }
+            (Kind::Position | Kind::Lanes, DeValue::Array(items)) => {
+                let fits = |x: &DeValue<'_>| match x {
+                    DeValue::Integer(_) => true,
+                    DeValue::Float(_) => self == Kind::Position,
+                    _ => false,
                 };
-                match found {
-                    Some(found) => Err(format!("invalid type: {found}, {EXPECTED}")),
-                    // An integer too large for a float is still refused here.
-                    None => check::<crate::core::model::Position>(value)
-                        .map_err(|_| format!("not a number: {EXPECTED}")),
+                match items.iter().find(|x| !fits(x.get_ref())) {
+                    Some(x) => format!("a list with {} in it", shown(x.get_ref())),
+                    None => format!("{} (out of range)", shown(value.get_ref())),
                 }
             }
-        }
+            (Kind::Count | Kind::Lane, DeValue::Integer(_)) => {
+                format!("{} (out of range)", shown(value.get_ref()))
+            }
+            (_, v) => shown(v),
+        };
+        Err(format!("expected {}, got {got}", self.expected()))
+    }
+}
+
+/// A TOML value in the user's words: `1.5`, the text "fast", a list, a table.
+pub(crate) fn shown(value: &DeValue<'_>) -> String {
+    match value {
+        DeValue::String(s) => format!("the text {s:?}"),
+        DeValue::Integer(i) => i.to_string(),
+        DeValue::Float(f) => f.to_string(),
+        DeValue::Boolean(b) => b.to_string(),
+        DeValue::Datetime(d) => format!("the date {d}"),
+        DeValue::Array(items) => format!("a list of {} values", items.len()),
+        DeValue::Table(_) => "a table".to_string(),
     }
 }
 
@@ -103,6 +130,21 @@ pub(crate) struct KeySpec {
     pub(crate) unit: &'static str,
     /// Its own bound (cross-key conditions are checked separately).
     pub(crate) bound: Bound,
+}
+
+impl KeySpec {
+    /// [`Kind::check`] with the key's unit: "expected a number in m/s, got the text
+    /// \"fast\"".
+    pub(crate) fn check(&self, value: Spanned<DeValue<'_>>) -> Result<(), String> {
+        self.kind.check(value).map_err(|reason| {
+            if self.unit.is_empty() {
+                return reason;
+            }
+            let what = self.kind.expected();
+            let of = if self.kind == Kind::Count { "of" } else { "in" };
+            reason.replacen(what, &format!("{what} {of} {}", self.unit), 1)
+        })
+    }
 }
 
 pub(crate) const fn spec(
@@ -204,12 +246,12 @@ mod tests {
             assert_eq!(position(ok), Ok(()), "{ok}");
         }
         for (bad, found) in [
-            ("\"near\"", "a string"),
-            ("true", "a boolean"),
-            ("[1]", "an array of 1 values"),
-            ("[1, 2, 3]", "an array of 3 values"),
-            ("[1, \"x\"]", "a range with a string in it"),
-            ("{ min = 1 }", "a table"),
+            ("\"near\"", "got the text \"near\""),
+            ("true", "got true"),
+            ("[1]", "got a list of 1 values"),
+            ("[1, 2, 3]", "got a list of 3 values"),
+            ("[1, \"x\"]", "got a list with the text \"x\" in it"),
+            ("{ min = 1 }", "got a table"),
         ] {
             let err = position(bad).unwrap_err();
             assert!(err.contains(found), "{bad}: {err}");

@@ -41,6 +41,15 @@ impl Target {
     }
 }
 
+/// What `spec`'s key takes, with its unit: "a number in m/s".
+fn expected(spec: &KeySpec) -> String {
+    match spec.unit {
+        "" => spec.kind.expected().to_string(),
+        unit if spec.kind == Kind::Count => format!("{} of {unit}", spec.kind.expected()),
+        unit => format!("{} in {unit}", spec.kind.expected()),
+    }
+}
+
 /// One `--set dotted.key=value`, parsed and type-checked.
 pub(crate) struct Override<'s> {
     /// `--set dotted.key=value`, the origin of its errors.
@@ -74,17 +83,18 @@ impl<'s> Override<'s> {
         {
             Spanned::new(0..text.len(), DeValue::String(Cow::Borrowed(text)))
         } else {
-            DeValue::parse(text).map_err(|e| ProblemError::Invalid {
+            // Not a TOML value at all (`fast`, `yes`, a number too large for a float): said
+            // as what the key takes.
+            DeValue::parse(text).map_err(|_| ProblemError::Invalid {
                 origin: origin.clone(),
                 key: key.to_string(),
                 value: text.to_string(),
-                reason: format!("not a TOML value: {}", e.message().trim_end()),
+                reason: format!("expected {}, got `{text}`", expected(target.spec)),
                 location: None,
             })?
         };
         target
             .spec
-            .kind
             .check(value.clone())
             .map_err(|reason| ProblemError::Invalid {
                 origin: origin.clone(),

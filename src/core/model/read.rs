@@ -7,7 +7,7 @@ use serde::Deserialize;
 use toml::de::DeTable;
 
 use crate::core::model::Problem;
-use crate::core::model::document::{parse_error, value_span};
+use crate::core::model::document::{parse_error, value_at, value_span};
 use crate::core::model::error::{Location, ProblemError};
 use crate::core::model::keys::{KEYS, TABLES, key_spec};
 use crate::core::model::overrides::{Override, Target};
@@ -83,10 +83,11 @@ impl Problem {
     /// validates the result. Errors in an override name the override as their origin.
     pub fn load_with_overrides(path: &Path, sets: &[String]) -> Result<Problem, ProblemError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Read {
-            origin: origin.clone(),
-            source,
-        })?;
+        let text =
+            crate::core::text_file::read_text(path).map_err(|source| ProblemError::Read {
+                origin: origin.clone(),
+                source,
+            })?;
         Self::from_toml_str_with_overrides(&text, &origin, sets)
     }
 
@@ -144,6 +145,32 @@ impl Problem {
     }
 }
 
+/// Checks the type of every problem key the document `doc` (parsed from `text`) has, so that
+/// a wrong one is named by its dotted key in the user's words, with the line (serde would say
+/// "invalid type: string, expected f64"). Scene files share the problem's keys.
+pub(crate) fn check_key_types(
+    text: &str,
+    origin: &str,
+    doc: &DeTable<'_>,
+) -> Result<(), ProblemError> {
+    for spec in KEYS {
+        let Some(value) = value_at(doc, spec.key) else {
+            continue;
+        };
+        if let Err(reason) = spec.check(value.clone()) {
+            let span = value.span();
+            return Err(ProblemError::Invalid {
+                origin: origin.to_string(),
+                key: spec.key.to_string(),
+                value: text.get(span.clone()).unwrap_or("?").to_string(),
+                reason,
+                location: Location::of_span(text, span).map(Box::new),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The problem in `root` (the document `doc` parsed from `text`, with the overrides
 /// `overridden` — pairs of dotted key and `--set` origin — applied), deserialised and
 /// validated. An error in a value an override set names the override; else the file, with the
@@ -155,6 +182,7 @@ pub(crate) fn problem_from_document(
     root: DeTable<'_>,
     overridden: &[(String, String)],
 ) -> Result<Problem, ProblemError> {
+    check_key_types(text, origin, doc)?;
     let problem =
         Problem::deserialize(toml::de::Deserializer::from(toml::Spanned::new(0..0, root)))
             .map_err(|mut e| {

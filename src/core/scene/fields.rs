@@ -47,7 +47,7 @@ fn typed<T: DeserializeOwned>(
             location,
         }
     };
-    spec.kind.check(value.clone()).map_err(wrong)?;
+    spec.check(value.clone()).map_err(wrong)?;
     T::deserialize(ValueDeserializer::from(value.clone()))
         .map_err(|e| wrong(e.message().trim_end().to_string()))
 }

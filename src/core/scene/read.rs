@@ -10,7 +10,7 @@ use toml::de::DeTable;
 
 use crate::core::model::document::parse_error;
 use crate::core::model::overrides::{Override, PathStep};
-use crate::core::model::read::problem_from_document;
+use crate::core::model::read::{check_key_types, problem_from_document};
 use crate::core::model::{Controller, ProblemError, Robot};
 use crate::core::scene::Scene;
 use crate::core::scene::fields::{Extras, lanes, obstacles, take_extras};
@@ -46,10 +46,11 @@ impl Scene {
     /// (`obstacle.1.max_speed=0.2`). Errors in an override name the override as their origin.
     pub fn load_with_overrides(path: &Path, sets: &[String]) -> Result<Scene, ProblemError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Read {
-            origin: origin.clone(),
-            source,
-        })?;
+        let text =
+            crate::core::text_file::read_text(path).map_err(|source| ProblemError::Read {
+                origin: origin.clone(),
+                source,
+            })?;
         Self::from_toml_str_with_overrides(&text, &origin, sets)
     }
 
@@ -119,6 +120,7 @@ impl Scene {
 /// The scene in `root`, a scene-form document without the scene's keys in `[robot]` and
 /// `[controller]` (not yet validated; lanes in the file's order).
 fn read_scene(source: &Source<'_>, mut root: DeTable<'_>) -> Result<Scene, ProblemError> {
+    check_key_types(source.text, source.origin, source.doc)?;
     let obstacle = root.remove("obstacle");
     let scene = root.remove("scene");
     let head = Head::deserialize(toml::de::Deserializer::from(toml::Spanned::new(0..0, root)))

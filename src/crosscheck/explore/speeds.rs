@@ -90,7 +90,11 @@ impl SpeedSet {
             });
         }
         let mut speeds = Vec::new();
-        for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        for (i, item) in text.split(',').map(str::trim).enumerate() {
+            // An empty element (`0,,0.15`) is a typo, not nothing: refused, not skipped.
+            if item.is_empty() {
+                return Err(bad(format!("element {} is empty", i + 1)));
+            }
             speeds.push(parse_speed(item).map_err(|reason| bad(format!("`{item}`: {reason}")))?);
         }
         Self::from_list(w, speeds, spec)

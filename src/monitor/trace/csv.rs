@@ -40,12 +40,23 @@ impl Columns {
             ));
         }
         let mut names = Vec::new();
+        let mut first_is_number = false;
         let mut scratch = Vec::new();
-        for_each_field(strip_bom(line), &mut scratch, |_, text| {
+        for_each_field(strip_bom(line), &mut scratch, |i, text| {
+            if i == 0 {
+                first_is_number =
+                    std::str::from_utf8(text).is_ok_and(|t| t.trim().parse::<f64>().is_ok());
+            }
             names.push(Field::from_name(text));
             Ok(())
         })?;
-        Self::from_fields(names)
+        let columns = Self::from_fields(names);
+        match columns {
+            // A header names columns; a line starting with a number is a sample, and the
+            // trace needs --columns.
+            Err(Detail::MissingColumn(_)) if first_is_number => Err(Detail::HeaderIsData),
+            other => other,
+        }
     }
 
     /// Columns given as a comma-separated list of names (for a CSV without a header).

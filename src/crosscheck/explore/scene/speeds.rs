@@ -130,7 +130,11 @@ impl SceneSpeeds {
             });
         }
         let mut levels = Vec::new();
-        for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        for (i, item) in text.split(',').map(str::trim).enumerate() {
+            // An empty element (`0,,0.15`) is a typo, not nothing: refused, not skipped.
+            if item.is_empty() {
+                return Err(bad(format!("element {} is empty", i + 1)));
+            }
             levels.push(parse_speed(item).map_err(|reason| bad(format!("`{item}`: {reason}")))?);
         }
         if levels.is_empty() {
@@ -226,7 +230,8 @@ mod tests {
         assert!(msg(SceneSpeeds::parse("-0.1", &p)).contains("outside"));
         assert!(msg(SceneSpeeds::parse("x", &p)).contains("not a number"));
         assert!(msg(SceneSpeeds::parse("1", &p)).contains("at least 2"));
-        assert!(msg(SceneSpeeds::parse(",", &p)).contains("no speeds"));
+        assert!(msg(SceneSpeeds::parse(",", &p)).contains("element 1 is empty"));
+        assert!(msg(SceneSpeeds::parse("0.1,,0.2", &p)).contains("element 2 is empty"));
         let over = SceneSpeeds::from_sets(&p, vec![vec![q(1, 5)], vec![q(1, 5)], vec![]]);
         assert!(msg(over).contains("obstacle[1] (\"obstacle-1\").max_speed"));
         assert!(msg(SceneSpeeds::from_sets(&p, vec![])).contains("one speed set per obstacle"));
