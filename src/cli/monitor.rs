@@ -35,7 +35,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use safereach::core::show::value;
-use safereach::monitor::trace::{Columns, Decoded, Decoder, Format};
+use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Line, Lines, MAX_LINE};
 use safereach::monitor::{
     Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
     SceneSummary, Status, Summary, Verdict,
@@ -153,7 +153,7 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
     let mut lines = Lines::new(input);
     loop {
         let line = lines
-            .next(&mut out)
+            .next_line(|| out.flush())
             .with_context(|| format!("reading {origin}"))?;
         let Some((number, line)) = line else {
             break;
@@ -188,7 +188,7 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
             )
             .context("writing the output")?;
     }
-    if let Some(signal) = lines.inner.interrupted_by() {
+    if let Some(signal) = lines.inner().interrupted_by() {
         // The summary still says what was read: a stopped monitor must not lose it.
         eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
     }
@@ -214,119 +214,6 @@ fn finish(
         return Ok(Exit::Error);
     }
     Ok(summary.verdict.into())
-}
-
-// ------------------------------------------------------------------------------------------
-// Reading lines without allocating, flushing the output before a read that may block
-// ------------------------------------------------------------------------------------------
-
-/// Bytes asked of the input per read.
-const CHUNK: usize = 1 << 20;
-/// Longest line accepted (bytes); a longer one is `malformed_sample` and skipped.
-const MAX_LINE: usize = 1 << 20;
-
-enum Line<'a> {
-    Text(&'a [u8]),
-    TooLong,
-}
-
-struct Lines<R> {
-    inner: R,
-    buf: Vec<u8>,
-    start: usize,
-    end: usize,
-    eof: bool,
-    /// Skipping the rest of a too-long line.
-    skipping: bool,
-    /// 1-based number of the last line returned.
-    number: u64,
-}
-
-/// Position of the first `\n` in `s`, eight bytes at a time.
-#[inline]
-fn find_newline(s: &[u8]) -> Option<usize> {
-    const LO: u64 = 0x0101_0101_0101_0101;
-    const HI: u64 = 0x8080_8080_8080_8080;
-    const NL: u64 = LO * b'\n' as u64;
-    let mut chunks = s.chunks_exact(8);
-    let mut base = 0;
-    for c in &mut chunks {
-        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]) ^ NL;
-        let zero = w.wrapping_sub(LO) & !w & HI;
-        if zero != 0 {
-            return Some(base + (zero.trailing_zeros() / 8) as usize);
-        }
-        base += 8;
-    }
-    chunks
-        .remainder()
-        .iter()
-        .position(|&b| b == b'\n')
-        .map(|k| base + k)
-}
-
-impl<R: Read> Lines<R> {
-    fn new(inner: R) -> Self {
-        Lines {
-            inner,
-            buf: vec![0; CHUNK + MAX_LINE],
-            start: 0,
-            end: 0,
-            eof: false,
-            skipping: false,
-            number: 0,
-        }
-    }
-
-    /// The next line (without `\n`) and its 1-based number, or `None` at the end of the
-    /// input. Before a read of the input, `out` is flushed: whatever was printed for earlier
-    /// lines goes out before the monitor waits for more.
-    fn next(&mut self, out: &mut impl Write) -> io::Result<Option<(u64, Line<'_>)>> {
-        loop {
-            if let Some(k) = find_newline(&self.buf[self.start..self.end]) {
-                let line = self.start..self.start + k;
-                self.start += k + 1;
-                if std::mem::take(&mut self.skipping) {
-                    continue;
-                }
-                self.number += 1;
-                return Ok(Some((self.number, Line::Text(&self.buf[line]))));
-            }
-            if self.skipping {
-                self.start = self.end;
-            }
-            if self.eof {
-                if self.start < self.end {
-                    let line = self.start..self.end;
-                    self.start = self.end;
-                    self.number += 1;
-                    return Ok(Some((self.number, Line::Text(&self.buf[line]))));
-                }
-                return Ok(None);
-            }
-            if self.end - self.start >= MAX_LINE {
-                self.start = self.end;
-                self.skipping = true;
-                self.number += 1;
-                return Ok(Some((self.number, Line::TooLong)));
-            }
-            self.buf.copy_within(self.start..self.end, 0);
-            self.end -= self.start;
-            self.start = 0;
-            out.flush()?;
-            let n = loop {
-                match self.inner.read(&mut self.buf[self.end..]) {
-                    Ok(n) => break n,
-                    Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                    Err(e) => return Err(e),
-                }
-            };
-            if n == 0 {
-                self.eof = true;
-            }
-            self.end += n;
-        }
-    }
 }
 
 // ------------------------------------------------------------------------------------------

@@ -6,7 +6,8 @@
 //! mapped to the monitor's integer ids once per new obstacle ([`Ids`]).
 //!
 //! One idea per file: `number.rs` (numbers), `csv.rs` (the header's columns and CSV rows),
-//! `jsonl.rs` (JSON Lines), `ids.rs` (obstacle ids); this file holds the [`Decoder`] that
+//! `jsonl.rs` (JSON Lines), `ids.rs` (obstacle ids), `lines.rs` (splitting a byte stream into
+//! lines: every line-end convention, bounded memory, no NUL bytes); this file holds the [`Decoder`] that
 //! turns a line of either format into a [`Sample`].
 //!
 //! A line that cannot be read is not an error of the reader: [`Decoder::decode`] returns
@@ -41,12 +42,14 @@ use crate::core::semantics::Mode;
 mod csv;
 mod ids;
 mod jsonl;
+mod lines;
 mod number;
 
 pub use csv::Columns;
 use csv::{Repeat, read_csv};
 pub use ids::Ids;
 use jsonl::read_json_into;
+pub use lines::{Line, Lines, MAX_LINE};
 pub use number::parse_f64;
 
 pub use crate::core::output::TraceFormat as Format;
