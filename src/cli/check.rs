@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::verdict::Verdict;
 
@@ -48,12 +48,12 @@ impl RequiredVerdict {
 /// another verdict.
 pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
     let path = &args.certificate;
-    if let Ok(text) = std::fs::read_to_string(path)
-        && super::region::is_map(&text)
-    {
+    let text = input::certificate_text(path, Unreadable::Reading)?;
+    if super::region::is_map(&text) {
         return super::region::check_file(path, &text, args.require.map(|r| r.verdict()), out);
     }
-    let cert = input::any_certificate(path, Unreadable::Reading)?;
+    let cert = CertificateFile::from_json(&text)
+        .with_context(|| format!("{}: not a safereach certificate", path.display()))?;
     match cert.check() {
         Ok(report) if args.require.is_some_and(|r| r.verdict() != report.verdict) => {
             writeln!(

@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 
 use safereach::core::model::Problem;
 use safereach::core::scene::Scene;
+use safereach::core::text_file;
 use safereach::proof::certificate_file::CertificateFile;
 
 /// A file read as what it states: a single-obstacle problem (`[environment]`, read with all
@@ -43,7 +44,7 @@ pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
 
 /// Whether the file at `path` has a `scene` or `obstacle` table at its top level.
 fn scene_form(path: &Path) -> bool {
-    safereach::core::text_file::read_text(path)
+    text_file::read_text(path, text_file::MAX_PROBLEM_BYTES)
         .ok()
         .and_then(|text| text.parse::<toml::Table>().ok())
         .is_some_and(|t| t.contains_key("scene") || t.contains_key("obstacle"))
@@ -52,13 +53,14 @@ fn scene_form(path: &Path) -> bool {
 /// Reads a certificate file of either kind (JSON, as `certify --out` writes it), not
 /// checked.
 pub fn any_certificate(path: &Path, unreadable: Unreadable) -> Result<CertificateFile> {
-    let text = read_certificate(path, unreadable)?;
+    let text = certificate_text(path, unreadable)?;
     CertificateFile::from_json(&text)
         .with_context(|| format!("{}: not a safereach certificate", path.display()))
 }
 
-fn read_certificate(path: &Path, unreadable: Unreadable) -> Result<String> {
-    safereach::core::text_file::read_text(path).with_context(|| match unreadable {
+/// The text of a certificate or region map file (not parsed).
+pub fn certificate_text(path: &Path, unreadable: Unreadable) -> Result<String> {
+    text_file::read_text(path, text_file::MAX_CERTIFICATE_BYTES).with_context(|| match unreadable {
         Unreadable::Reading => format!("reading {}", path.display()),
         Unreadable::CannotRead => format!("{}: cannot read the certificate", path.display()),
     })

@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 
 use safereach::analysis::report;
-use safereach::analysis::sweep::{self, CellResult, Grid, Shard};
+use safereach::analysis::sweep::{self, CellResult, Grid, Shard, SweepBudget};
+use safereach::core::text_file;
 
 use super::exit::Exit;
 use super::output::{Output, create_dir, write_file};
@@ -41,7 +42,13 @@ pub fn run(args: ReportArgs, out: &mut Output) -> Result<Exit> {
     for path in grids {
         let grid = Grid::load(&path)?;
         let results = if args.from.is_empty() {
-            run_grid(&grid, Shard::ALL, grid.runs, grid.seed)?
+            run_grid(
+                &grid,
+                Shard::ALL,
+                grid.runs,
+                grid.seed,
+                &SweepBudget::default(),
+            )?
         } else {
             merged(&grid, &args.from)?
         };
@@ -118,8 +125,8 @@ fn merged(grid: &Grid, dirs: &[PathBuf]) -> Result<Vec<CellResult>> {
             .collect();
         files.sort();
         for f in files {
-            let text =
-                std::fs::read_to_string(&f).with_context(|| format!("reading {}", f.display()))?;
+            let text = text_file::read_text(&f, text_file::MAX_CERTIFICATE_BYTES)
+                .with_context(|| format!("reading {}", f.display()))?;
             parts.push(
                 sweep::from_jsonl(&text, &keys, &f.display().to_string())
                     .map_err(anyhow::Error::msg)?,

@@ -84,10 +84,11 @@ impl Problem {
     pub fn load_with_overrides(path: &Path, sets: &[String]) -> Result<Problem, ProblemError> {
         let origin = path.display().to_string();
         let text =
-            crate::core::text_file::read_text(path).map_err(|source| ProblemError::Read {
-                origin: origin.clone(),
-                source,
-            })?;
+            crate::core::text_file::read_text(path, crate::core::text_file::MAX_PROBLEM_BYTES)
+                .map_err(|source| ProblemError::Read {
+                    origin: origin.clone(),
+                    source,
+                })?;
         Self::from_toml_str_with_overrides(&text, &origin, sets)
     }
 
