@@ -8,7 +8,35 @@ use crate::core::scene::simulate::SceneTraceRow;
 use crate::core::simulate::TraceRow;
 
 /// Writes `bytes` to `path` via a temporary file in the same directory and a rename.
+///
+/// Only a regular file is ever replaced: a rename over a symlink, a directory or a device
+/// node would put a regular file in its place (as root, `--out /dev/null` would replace
+/// `/dev/null`), so such a target is an [`std::io::ErrorKind::InvalidInput`] error saying
+/// what it is. A symlink is refused rather than followed, so that what is replaced is
+/// always the path the user named.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if let Ok(meta) = std::fs::symlink_metadata(path) {
+        let kind = meta.file_type();
+        let what = if kind.is_symlink() {
+            Some("a symbolic link")
+        } else if kind.is_dir() {
+            Some("a directory")
+        } else if !kind.is_file() {
+            Some("a device, pipe or socket")
+        } else {
+            None
+        };
+        if let Some(what) = what {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!(
+                    "it is {what}, not a regular file; outputs are written to a new file \
+                     and renamed into place, which would replace it (name a regular file \
+                     or a new path)"
+                ),
+            ));
+        }
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
@@ -19,7 +47,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
+        // `create_new`: never write through something already at the temporary name.
+        let mut f = std::fs::File::options()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
@@ -28,6 +60,42 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+#[cfg(all(test, unix))]
+mod atomic_tests {
+    use super::*;
+
+    #[test]
+    fn only_a_regular_file_is_replaced() {
+        let dir = std::env::temp_dir().join(format!("safereach-out-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("result.json");
+        write_atomic(&file, b"one").unwrap();
+        write_atomic(&file, b"two").unwrap();
+        assert_eq!(std::fs::read(&file).unwrap(), b"two");
+        let link = dir.join("link.json");
+        std::os::unix::fs::symlink(&file, &link).unwrap();
+        for (target, what) in [
+            (link.as_path(), "a symbolic link"),
+            (dir.as_path(), "a directory"),
+            (Path::new("/dev/null"), "a device"),
+        ] {
+            let err = write_atomic(target, b"three").unwrap_err();
+            assert!(err.to_string().contains(what), "{target:?}: {err}");
+        }
+        assert_eq!(std::fs::read(&file).unwrap(), b"two");
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        use std::os::unix::fs::FileTypeExt;
+        let null = std::fs::metadata("/dev/null").unwrap().file_type();
+        assert!(null.is_char_device());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
 
 /// A trace as CSV in the monitor's format: `t,robot_x,robot_v,robot_mode,obstacle_id,
