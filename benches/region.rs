@@ -34,6 +34,7 @@ fn main() {
         let options = RegionOptions {
             depth,
             min_width: 0.0,
+            ..RegionOptions::default()
         };
         let start = Instant::now();
         let map = map_region(&seed, &whole, &options, &|_| {}).expect("maps");

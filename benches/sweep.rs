@@ -7,7 +7,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use safereach::analysis::Verdict;
-use safereach::analysis::sweep::{Grid, Shard};
+use safereach::analysis::sweep::{Grid, Shard, SweepBudget};
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -34,7 +34,9 @@ fn main() {
     assert_eq!(grid.len(), 10_000);
 
     let start = Instant::now();
-    let results = grid.run(Shard::ALL, 0, 0, || {}).expect("sweeps");
+    let results = grid
+        .run(Shard::ALL, 0, 0, &SweepBudget::default(), || {})
+        .expect("sweeps");
     let sweep = start.elapsed();
     let n = |v: Verdict| results.iter().filter(|r| r.verdict == v).count();
 

@@ -101,6 +101,9 @@ pub enum AnalysisError {
         "sensing.first_detection_gap with an active wrong-assumption guard is not analysed yet"
     )]
     OcclusionWithWrongAssumption,
+    /// A search would pass its budget of analysed control periods.
+    #[error(transparent)]
+    OverBudget(#[from] crate::core::budget::OverBudget),
 }
 
 /// When the analyser extracts and replays a worst-case witness.

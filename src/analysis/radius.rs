@@ -23,10 +23,12 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::{
     self, Analysis, AnalysisError, Options, PieceResult, Verdict, WitnessPolicy,
 };
+use crate::core::budget::{Budget, Meter, Work, grouped};
 use crate::core::model::{DangerRule, Problem};
 use crate::core::num::{Exact, exact_decimal};
 use crate::core::parameter::Parameter as Named;
 use crate::core::semantics::danger_distance;
+use crate::core::simulate;
 use crate::proof::program::ProofKind;
 
 /// Half-width of the final bracket around the boundary.
@@ -107,11 +109,11 @@ fn evaluate(
     base: &Problem,
     param: Parameter,
     x: f64,
-    count: &mut usize,
+    spent: &mut Spent,
 ) -> Result<Eval, AnalysisError> {
-    *count += 1;
+    spent.analyses += 1;
     let problem = param.set(base, x);
-    let a = analysis::analyse_with(
+    let a = spent.analyse(
         &problem,
         Options {
             witness: WitnessPolicy::ToRefute,
@@ -161,7 +163,7 @@ fn bisect_newton(
     param: Parameter,
     mut outside: (f64, Eval),
     mut inside: (f64, Eval),
-    count: &mut usize,
+    spent: &mut Spent,
 ) -> Result<(f64, f64), AnalysisError> {
     let mut last_width = f64::INFINITY;
     for _ in 0..200 {
@@ -177,7 +179,7 @@ fn bisect_newton(
             _ => 0.5 * (inside.0 + outside.0),
         };
         last_width = width;
-        let e = evaluate(base, param, x, count)?;
+        let e = evaluate(base, param, x, spent)?;
         let on_root = e
             .margin
             .as_ref()
@@ -193,7 +195,7 @@ fn bisect_newton(
             let toward = if inside.0 > outside.0 { 1.0 } else { -1.0 };
             for probe in [x + toward * step, x - toward * step] {
                 if (probe - outside.0) * (probe - inside.0) < 0.0 {
-                    let e = evaluate(base, param, probe, count)?;
+                    let e = evaluate(base, param, probe, spent)?;
                     if e.certified() {
                         inside = (probe, e);
                     } else {
@@ -216,21 +218,60 @@ fn summary(a: &Analysis) -> String {
     }
 }
 
-fn probe(base: &Problem, param: Parameter, x: f64) -> Result<Analysis, AnalysisError> {
-    analysis::analyse(&param.set(base, x))
+fn probe(
+    base: &Problem,
+    param: Parameter,
+    x: f64,
+    spent: &mut Spent,
+) -> Result<Analysis, AnalysisError> {
+    spent.analyse(&param.set(base, x), Options::default())
+}
+
+/// What a search has spent: the analyses it counts (the final probes beside the boundary
+/// are not counted), and every analysis's horizon against the budget of analysed periods.
+struct Spent {
+    analyses: usize,
+    meter: Meter,
+}
+
+impl Spent {
+    fn new(budget: Budget) -> Spent {
+        Spent {
+            analyses: 0,
+            meter: Meter::new(budget),
+        }
+    }
+
+    /// Analyses `problem` if its horizon fits in what is left of the budget.
+    fn analyse(&mut self, problem: &Problem, options: Options) -> Result<Analysis, AnalysisError> {
+        let horizon = simulate::horizon(&problem.params::<f64>()) as u64;
+        let done = self.meter.used();
+        self.meter.charge(
+            || {
+                format!(
+                    "the search, after {} control periods analysed, one more analysis of {} \
+                     periods,",
+                    grouped(done),
+                    grouped(horizon)
+                )
+            },
+            horizon,
+        )?;
+        analysis::analyse_with(problem, options)
+    }
 }
 
 fn finish(
     base: &Problem,
     param: Parameter,
     bracket: (f64, f64),
-    analyses: usize,
+    spent: &mut Spent,
     reason: Option<String>,
 ) -> Result<Boundary, AnalysisError> {
     let (outside, inside) = bracket;
     let value = 0.5 * (outside + inside);
     let toward_inside = if inside > outside { 1.0 } else { -1.0 };
-    let certified = probe(base, param, value + toward_inside * PROBE_OFFSET)?;
+    let certified = probe(base, param, value + toward_inside * PROBE_OFFSET, spent)?;
     // Nothing is reported certified unless its certificate passes the exact check.
     if certified.verdict == Verdict::Certified
         && let Err(e) = crate::proof::certificate::check(
@@ -243,7 +284,7 @@ fn finish(
     }
     let below = value - toward_inside * PROBE_OFFSET;
     let refuted = if below >= 0.0 {
-        Some(probe(base, param, below)?)
+        Some(probe(base, param, below, spent)?)
     } else {
         None
     };
@@ -253,14 +294,21 @@ fn finish(
         reason,
         certified: Some(certified),
         refuted,
-        analyses,
+        analyses: spent.analyses,
     })
 }
 
-/// The smallest certified reaction radius for the problem's obstacle speed bound.
+/// The smallest certified reaction radius for the problem's obstacle speed bound, within
+/// the default budget of analysed periods.
 pub fn safe_radius(problem: &Problem) -> Result<Boundary, AnalysisError> {
+    safe_radius_within(problem, Budget::default_for(Work::AnalysedPeriods))
+}
+
+/// The smallest certified reaction radius for the problem's obstacle speed bound; a search
+/// whose analyses would pass `budget` stops with [`AnalysisError::OverBudget`].
+pub fn safe_radius_within(problem: &Problem, budget: Budget) -> Result<Boundary, AnalysisError> {
     let param = Parameter::ReactionRadius;
-    let mut count = 0;
+    let mut spent = Spent::new(budget);
     let p = problem.params::<Exact>();
     // The farthest initial gap (plus the gap noise, by which it may be seen farther): a
     // radius beyond it sees every start from the first observation.
@@ -276,9 +324,9 @@ pub fn safe_radius(problem: &Problem) -> Result<Boundary, AnalysisError> {
         }
         _ => g0,
     };
-    let top = evaluate(problem, param, cap, &mut count)?;
+    let top = evaluate(problem, param, cap, &mut spent)?;
     if !top.certified() {
-        let a = probe(problem, param, cap)?;
+        let a = probe(problem, param, cap, &mut spent)?;
         let why = if cap < g0 {
             format!(
                 "the robot only reacts within its danger distance d_coll(v_max) = {cap:.6} m, so a larger radius changes nothing, and at that radius {}",
@@ -290,12 +338,12 @@ pub fn safe_radius(problem: &Problem) -> Result<Boundary, AnalysisError> {
                 summary(&a)
             )
         };
-        return Ok(Boundary::none(param, why, a, count));
+        return Ok(Boundary::none(param, why, a, spent.analyses));
     }
     let start = problem.controller.reaction_radius.min(cap);
     let tiny = 1e-9;
     let (outside, inside) = if start < cap {
-        let e = evaluate(problem, param, start, &mut count)?;
+        let e = evaluate(problem, param, start, &mut spent)?;
         if e.certified() {
             ((tiny, None), (start, e))
         } else {
@@ -307,30 +355,37 @@ pub fn safe_radius(problem: &Problem) -> Result<Boundary, AnalysisError> {
     let outside = match outside {
         (x, Some(e)) => (x, e),
         (x, None) => {
-            let e = evaluate(problem, param, x, &mut count)?;
+            let e = evaluate(problem, param, x, &mut spent)?;
             if e.certified() {
                 let reason = Some("certified for every positive reaction radius".to_string());
-                return finish(problem, param, (0.0, x), count, reason);
+                return finish(problem, param, (0.0, x), &mut spent, reason);
             }
             (x, e)
         }
     };
-    let bracket = bisect_newton(problem, param, outside, inside, &mut count)?;
-    finish(problem, param, bracket, count, None)
+    let bracket = bisect_newton(problem, param, outside, inside, &mut spent)?;
+    finish(problem, param, bracket, &mut spent, None)
 }
 
-/// The largest certified obstacle speed bound W for the problem's reaction radius.
+/// The largest certified obstacle speed bound W for the problem's reaction radius, within
+/// the default budget of analysed periods.
 pub fn max_speed(problem: &Problem) -> Result<Boundary, AnalysisError> {
+    max_speed_within(problem, Budget::default_for(Work::AnalysedPeriods))
+}
+
+/// The largest certified obstacle speed bound W for the problem's reaction radius; a search
+/// whose analyses would pass `budget` stops with [`AnalysisError::OverBudget`].
+pub fn max_speed_within(problem: &Problem, budget: Budget) -> Result<Boundary, AnalysisError> {
     let param = Parameter::ObstacleSpeed;
-    let mut count = 0;
-    let zero = evaluate(problem, param, 0.0, &mut count)?;
+    let mut spent = Spent::new(budget);
+    let zero = evaluate(problem, param, 0.0, &mut spent)?;
     if !zero.certified() {
-        let a = probe(problem, param, 0.0)?;
+        let a = probe(problem, param, 0.0, &mut spent)?;
         let why = format!(
             "not even a static obstacle (W = 0) is certified: {}",
             summary(&a)
         );
-        return Ok(Boundary::none(param, why, a, count));
+        return Ok(Boundary::none(param, why, a, spent.analyses));
     }
     // Grow W until certification fails; a fast enough obstacle always jumps the area.
     let mut inside = (0.0, zero);
@@ -340,7 +395,7 @@ pub fn max_speed(problem: &Problem) -> Result<Boundary, AnalysisError> {
         .max(problem.robot.max_speed * 0.1);
     let limit = 1e6;
     let outside = loop {
-        let e = evaluate(problem, param, x, &mut count)?;
+        let e = evaluate(problem, param, x, &mut spent)?;
         if !e.certified() {
             break (x, e);
         }
@@ -349,20 +404,20 @@ pub fn max_speed(problem: &Problem) -> Result<Boundary, AnalysisError> {
             let reason = Some(format!(
                 "certified up to the largest speed tried, {limit} m/s"
             ));
-            let a = probe(problem, param, x)?;
+            let a = probe(problem, param, x, &mut spent)?;
             return Ok(Boundary {
                 parameter: param,
                 value: Some(x),
                 reason,
                 certified: Some(a),
                 refuted: None,
-                analyses: count,
+                analyses: spent.analyses,
             });
         }
         x *= 2.0;
     };
-    let bracket = bisect_newton(problem, param, outside, inside, &mut count)?;
-    finish(problem, param, bracket, count, None)
+    let bracket = bisect_newton(problem, param, outside, inside, &mut spent)?;
+    finish(problem, param, bracket, &mut spent, None)
 }
 
 impl Boundary {

@@ -20,6 +20,7 @@ use rayon::prelude::*;
 
 use crate::analysis::analyse::{AnalysisError, Options, WitnessPolicy, analyse_with};
 use crate::analysis::region::{Hints, certify_box};
+use crate::core::budget::{Work, grouped};
 use crate::core::model::Problem;
 use crate::core::num::f64_at_most;
 use crate::core::param_box::ParamBox;
@@ -38,6 +39,9 @@ pub struct RegionOptions {
     /// An axis narrower than this fraction of its whole range is not split again (0: no
     /// limit but the depth).
     pub min_width: f64,
+    /// Budget: the most boxes decided (each one certificate attempt, perhaps corner
+    /// analyses); boxes beyond it are left undecided, saying so.
+    pub max_boxes: u64,
 }
 
 impl Default for RegionOptions {
@@ -45,6 +49,7 @@ impl Default for RegionOptions {
         RegionOptions {
             depth: 12,
             min_width: 0.0,
+            max_boxes: Work::Boxes.default_limit(),
         }
     }
 }
@@ -95,7 +100,33 @@ pub fn map_region(
     let mut leaves = Vec::new();
     let mut solved = 0;
     let corners = Corners::default();
+    let mut boxes: u64 = 0;
     while !level.is_empty() {
+        if boxes.saturating_add(level.len() as u64) > options.max_boxes {
+            // The whole level is left undecided (not part of it: the map stays a function
+            // of the options, not of the order of work).
+            let reason = format!(
+                "box budget reached: {} boxes decided, {} more would pass the budget of {} \
+                 (--max-boxes raises it)",
+                grouped(boxes),
+                grouped(level.len() as u64),
+                grouped(options.max_boxes)
+            );
+            for task in level {
+                on_decided(volume_fraction(whole, &task.b));
+                leaves.push(Leaf {
+                    path: task.path,
+                    bounds: bounds_of(&task.b),
+                    verdict: LeafVerdict::Undecided,
+                    lower_bound: None,
+                    proofs: Vec::new(),
+                    refutation: None,
+                    reason: Some(reason.clone()),
+                });
+            }
+            break;
+        }
+        boxes += level.len() as u64;
         let decided: Vec<Decided> = level
             .into_par_iter()
             .map(|task| decide(problem, whole, task, options, &corners, on_decided))

@@ -32,9 +32,11 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::scene_answer::SceneAnswer;
 use crate::analysis::scene_worst::SceneWorstCase;
 use crate::analysis::{self, Options, SpeedPattern, Verdict, WitnessPolicy};
+use crate::core::budget::{Budget, Meter, OverBudget, Work, grouped};
 use crate::core::model::{Problem, ProblemError};
 use crate::core::num::f64_at_most;
 use crate::core::scene::Scene;
+use crate::core::simulate;
 
 /// Grid-file errors (all name the file).
 #[derive(Debug, thiserror::Error)]
@@ -213,26 +215,55 @@ impl Shard {
     pub fn owns(&self, cell: usize) -> bool {
         cell % self.count == self.index
     }
+
+    /// How many of `len` cells this shard owns.
+    pub fn share(&self, len: usize) -> usize {
+        len.saturating_sub(self.index).div_ceil(self.count)
+    }
+}
+
+/// The budgets of a sweep: how many cells (of its shard), and how many control periods its
+/// Monte Carlo runs may simulate in all (runs × each cell's horizon).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SweepBudget {
+    /// Cells of the shard.
+    pub cells: Budget,
+    /// Simulated control periods, all cells together.
+    pub periods: Budget,
+}
+
+impl Default for SweepBudget {
+    fn default() -> Self {
+        SweepBudget {
+            cells: Budget::default_for(Work::Cells),
+            periods: Budget::default_for(Work::SimulatedPeriods),
+        }
+    }
 }
 
 impl Grid {
     /// Loads a grid file and its base problem (validated).
     pub fn load(path: &Path) -> Result<Grid, GridError> {
         let shown = path.display().to_string();
-        let text = crate::core::text_file::read_text(path).map_err(|source| GridError::Read {
-            path: shown.clone(),
-            source,
-        })?;
+        let text =
+            crate::core::text_file::read_text(path, crate::core::text_file::MAX_PROBLEM_BYTES)
+                .map_err(|source| GridError::Read {
+                    path: shown.clone(),
+                    source,
+                })?;
         let file: GridFile = toml::from_str(&text).map_err(|e| GridError::Invalid {
             path: shown.clone(),
             reason: e.to_string(),
         })?;
         let base_path = path.parent().unwrap_or(Path::new(".")).join(&file.base);
-        let base_text =
-            crate::core::text_file::read_text(&base_path).map_err(|source| GridError::Read {
-                path: format!("{shown}: base = {:?} ({})", file.base, base_path.display()),
-                source,
-            })?;
+        let base_text = crate::core::text_file::read_text(
+            &base_path,
+            crate::core::text_file::MAX_PROBLEM_BYTES,
+        )
+        .map_err(|source| GridError::Read {
+            path: format!("{shown}: base = {:?} ({})", file.base, base_path.display()),
+            source,
+        })?;
         let origin = base_path.display().to_string();
         let scene = match Problem::from_toml_str(&base_text, &origin) {
             Ok(_) => false,
@@ -379,10 +410,29 @@ impl Grid {
         self.input_with(&self.cell_values(cell))
     }
 
-    /// Analyses one cell (and simulates it, with `runs` > 0).
-    pub fn run_cell(&self, cell: usize, runs: usize, seed: u64) -> Result<CellResult, SweepError> {
+    /// Analyses one cell (and simulates it, with `runs` > 0, charging its runs to `meter`
+    /// first).
+    pub fn run_cell(
+        &self,
+        cell: usize,
+        runs: usize,
+        seed: u64,
+        meter: &Meter,
+    ) -> Result<CellResult, SweepError> {
         let values = self.cell_values(cell);
-        let problem = match self.input_with(&values)? {
+        let input = self.input_with(&values)?;
+        if runs > 0 {
+            let horizon = match &input {
+                CellInput::Problem(p) => simulate::horizon(&p.params::<f64>()),
+                CellInput::Scene(s) => crate::core::scene::simulate::horizon(&s.params::<f64>()),
+            };
+            let work = (runs as u64).saturating_mul(horizon as u64);
+            meter.charge(
+                || format!("the Monte Carlo runs up to cell {cell} ({runs} runs per cell)"),
+                work,
+            )?;
+        }
+        let problem = match input {
             CellInput::Problem(p) => p,
             CellInput::Scene(s) => return scene_cell(cell, &values, &s, runs, seed),
         };
@@ -416,19 +466,53 @@ impl Grid {
     }
 
     /// Runs the cells of a shard in parallel; `tick` is called once per finished cell.
-    /// Results are in cell order.
+    /// Results are in cell order. Work past `budget` is refused: too many cells before any
+    /// is run, Monte Carlo runs up front when the base problem's horizon already exceeds
+    /// it, and else when the running count (each cell's own horizon) reaches it.
     pub fn run(
         &self,
         shard: Shard,
         runs: usize,
         seed: u64,
+        budget: &SweepBudget,
         tick: impl Fn() + Sync,
     ) -> Result<Vec<CellResult>, SweepError> {
+        let share = shard.share(self.len());
+        let name = if shard == Shard::ALL {
+            self.path.display().to_string()
+        } else {
+            format!(
+                "{}, shard {}/{},",
+                self.path.display(),
+                shard.index,
+                shard.count
+            )
+        };
+        budget.cells.allow(name.clone(), Some(share as u64))?;
+        if runs > 0 {
+            let base = match self.input_with(&[])? {
+                CellInput::Problem(p) => simulate::horizon(&p.params::<f64>()),
+                CellInput::Scene(s) => crate::core::scene::simulate::horizon(&s.params::<f64>()),
+            };
+            let needed = (share as u64)
+                .checked_mul(runs as u64)
+                .and_then(|n| n.checked_mul(base as u64));
+            budget.periods.allow(
+                format!(
+                    "{name}: {} cells of {runs} Monte Carlo runs, each of up to {} control \
+                     periods (the base problem's horizon),",
+                    grouped(share as u64),
+                    grouped(base as u64)
+                ),
+                needed,
+            )?;
+        }
+        let meter = Meter::new(budget.periods);
         let cells: Vec<usize> = (0..self.len()).filter(|&c| shard.owns(c)).collect();
         cells
             .par_iter()
             .map(|&c| {
-                let r = self.run_cell(c, runs, seed);
+                let r = self.run_cell(c, runs, seed, &meter);
                 tick();
                 r
             })
@@ -443,6 +527,9 @@ pub enum SweepError {
     /// A cell's problem is invalid.
     #[error(transparent)]
     Problem(#[from] ProblemError),
+    /// The sweep asks for more work than its budget.
+    #[error(transparent)]
+    OverBudget(#[from] OverBudget),
     /// A cell's analysis failed.
     #[error("cell {cell}: {reason}")]
     Analysis {

@@ -12,7 +12,8 @@ use safereach::core::show::value;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
+use safereach::core::budget::Work;
 use serde_json::{Value, json};
 
 use safereach::core::model::Problem;
@@ -50,6 +51,10 @@ pub struct ExploreArgs {
     /// 2000000 for a problem, 600000 for a scene: under 1 GB either way).
     #[arg(long, value_name = "N")]
     max_states: Option<usize>,
+    /// Memory budget for the stored states, in MiB (default 2048): with a long latency every
+    /// state is large, and the state limit is lowered to what fits.
+    #[arg(long, value_name = "MIB")]
+    max_memory: Option<u64>,
     /// Print JSON (verdict, states, min_separation, path, ...).
     #[arg(long)]
     json: bool,
@@ -79,6 +84,7 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
         Input::Scene(scene) => {
             let options = Options {
                 max_states: args.max_states.unwrap_or(DEFAULT_SCENE_MAX_STATES),
+                max_memory: memory(args.max_memory)?,
             };
             if args.grid {
                 if args.trace.is_some() {
@@ -107,6 +113,7 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
     let speeds = speed_set(&problem, args.speeds.as_deref().unwrap_or(DEFAULT_SPEEDS))?;
     let options = Options {
         max_states: args.max_states.unwrap_or(explore::DEFAULT_MAX_STATES),
+        max_memory: memory(args.max_memory)?,
     };
     if args.grid {
         if args.trace.is_some() {
@@ -125,10 +132,14 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
         writeln!(
             out,
             "{}",
-            serde_json::to_string_pretty(&to_json(&problem, &result))?
+            serde_json::to_string_pretty(&to_json(&problem, &result, &options))?
         )?;
     } else {
-        write!(out, "{}", summary(&problem, &result, args.trace.as_deref()))?;
+        write!(
+            out,
+            "{}",
+            summary(&problem, &result, &options, args.trace.as_deref())
+        )?;
     }
     Ok(result.verdict.into())
 }
@@ -143,25 +154,36 @@ fn path_json(path: &explore::Path) -> Value {
     })
 }
 
-fn message(result: &Exploration) -> Option<String> {
+/// `--max-memory` in bytes (default: the explorer's memory budget).
+fn memory(mib: Option<u64>) -> Result<u64> {
+    match mib {
+        None => Ok(Work::ExploreMemory.default_limit()),
+        Some(0) => anyhow::bail!("--max-memory must be at least 1 (MiB)"),
+        Some(m) => m
+            .checked_mul(1 << 20)
+            .context("--max-memory: more MiB than can be counted in bytes"),
+    }
+}
+
+fn message(result: &Exploration, options: &Options) -> Option<String> {
     (!result.complete).then(|| {
         format!(
-            "{}state budget reached ({} states); raise --max-states or use fewer --speeds",
+            "{}{}",
             if result.verdict == ExploreVerdict::Inconclusive {
                 "inconclusive: "
             } else {
                 "incomplete: "
             },
-            result.states
+            explore::budget_reached(result.states, result.state_limit, options)
         )
     })
 }
 
-fn to_json(problem: &Problem, result: &Exploration) -> Value {
+fn to_json(problem: &Problem, result: &Exploration, options: &Options) -> Value {
     json!({
         "problem": problem.name,
         "verdict": result.verdict.as_str(),
-        "message": message(result),
+        "message": message(result, options),
         "complete": result.complete,
         "states": result.states,
         "transitions": result.transitions,
@@ -199,9 +221,14 @@ fn brake_time(rows: &[TraceRow]) -> Option<f64> {
         .map(|r| r.t)
 }
 
-fn summary(problem: &Problem, result: &Exploration, trace: Option<&Path>) -> String {
+fn summary(
+    problem: &Problem,
+    result: &Exploration,
+    options: &Options,
+    trace: Option<&Path>,
+) -> String {
     let mut s = format!("{}: {}\n", problem.name, result.verdict.as_str());
-    if let Some(m) = message(result) {
+    if let Some(m) = message(result, options) {
         s += &format!("  {m}\n");
     }
     s += &format!(

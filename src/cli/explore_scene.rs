@@ -15,7 +15,7 @@ use safereach::core::scene::Scene;
 use safereach::crosscheck::explore::scene::{
     SceneExploration, ScenePath, SceneSpeeds, explore_scene,
 };
-use safereach::crosscheck::explore::{ExploreVerdict, Options, show_exact};
+use safereach::crosscheck::explore::{self, ExploreVerdict, Options, show_exact};
 use safereach::crosscheck::uppaal;
 
 use super::exit::Exit;
@@ -45,10 +45,10 @@ pub fn run(
         )?;
     }
     if json {
-        let v = to_json(scene, &result);
+        let v = to_json(scene, &result, options);
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
     } else {
-        write!(out, "{}", summary(scene, &result, trace))?;
+        write!(out, "{}", summary(scene, &result, options, trace))?;
     }
     Ok(result.verdict.into())
 }
@@ -145,7 +145,7 @@ pub fn run_grid(
 }
 
 /// Why the search is incomplete, if it is.
-fn message(result: &SceneExploration) -> Option<String> {
+fn message(result: &SceneExploration, options: &Options) -> Option<String> {
     if result.complete {
         return None;
     }
@@ -156,8 +156,8 @@ fn message(result: &SceneExploration) -> Option<String> {
     };
     Some(if result.budget_exhausted {
         format!(
-            "{head}state budget exhausted ({} states); raise --max-states or use fewer --speeds",
-            result.states
+            "{head}{}",
+            explore::budget_reached(result.states, result.state_limit, options)
         )
     } else {
         format!(
@@ -224,9 +224,14 @@ fn story(scene: &Scene, path: &ScenePath) -> String {
     format!("robot {}", parts.join(", "))
 }
 
-fn summary(scene: &Scene, result: &SceneExploration, trace: Option<&Path>) -> String {
+fn summary(
+    scene: &Scene,
+    result: &SceneExploration,
+    options: &Options,
+    trace: Option<&Path>,
+) -> String {
     let mut s = format!("{}: {}\n", scene.name, result.verdict.as_str());
-    if let Some(m) = message(result) {
+    if let Some(m) = message(result, options) {
         s += &format!("  {m}\n");
     }
     let sets: Vec<String> = (0..scene.obstacles.len())
@@ -358,7 +363,7 @@ fn path_json(path: &ScenePath) -> Value {
     })
 }
 
-fn to_json(scene: &Scene, result: &SceneExploration) -> Value {
+fn to_json(scene: &Scene, result: &SceneExploration, options: &Options) -> Value {
     let (least, least_exact) = if result.never_stops() {
         (Value::Null, Value::Null)
     } else {
@@ -391,7 +396,7 @@ fn to_json(scene: &Scene, result: &SceneExploration) -> Value {
     json!({
         "scene": scene.name,
         "verdict": result.verdict.as_str(),
-        "message": message(result),
+        "message": message(result, options),
         "complete": result.complete,
         "budget_exhausted": result.budget_exhausted,
         "horizon_reached": result.horizon_reached,

@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
+use safereach::core::budget::{Budget, Work};
 
 use safereach::analysis::radius;
 use safereach::core::scene::Scene;
@@ -28,6 +29,10 @@ pub struct MaxSpeedArgs {
     /// Write the certificate just below the largest certified speed to this file.
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
+    /// Budget: the most control periods the search may analyse in all, each analysis
+    /// counting its problem's horizon (default 1,000,000).
+    #[arg(long, value_name = "N")]
+    max_periods: Option<u64>,
     /// In a scene: the obstacle (by name) whose bound is searched; default every moving
     /// obstacle's, together.
     #[arg(long, value_name = "NAME")]
@@ -43,7 +48,11 @@ pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
     if args.obstacle.is_some() {
         anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");
     }
-    let b = radius::max_speed(&problem).context("max-speed search failed")?;
+    let b = radius::max_speed_within(
+        &problem,
+        Budget::new(Work::AnalysedPeriods, args.max_periods),
+    )
+    .context("max-speed search failed")?;
     if let (Some(path), Some(a)) = (&args.out, &b.certified) {
         write_file(path, certificate_text(a)?.as_bytes())?;
     }

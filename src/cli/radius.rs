@@ -6,6 +6,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
+use safereach::core::budget::{Budget, Work};
 
 use safereach::analysis::radius;
 use safereach::core::scene::Scene;
@@ -33,6 +34,10 @@ pub struct RadiusArgs {
     /// Write the certificate just above each safe radius into this directory.
     #[arg(long, value_name = "DIR")]
     certificates: Option<PathBuf>,
+    /// Budget: the most control periods the search may analyse in all, each analysis
+    /// counting its problem's horizon (default 1,000,000).
+    #[arg(long, value_name = "N")]
+    max_periods: Option<u64>,
     /// In a scene: the obstacle (by name) whose bound `--speeds` sets; default every moving
     /// obstacle's.
     #[arg(long, value_name = "NAME")]
@@ -60,7 +65,11 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
         let mut problem = base.clone();
         problem.environment.obstacle_speed = w;
         problem.validate(&format!("--speeds {}", value(w)))?;
-        let b = radius::safe_radius(&problem).context("radius search failed")?;
+        let b = radius::safe_radius_within(
+            &problem,
+            Budget::new(Work::AnalysedPeriods, args.max_periods),
+        )
+        .context("radius search failed")?;
         all &= b.value.is_some();
         if let (Some(dir), Some(a)) = (&args.certificates, &b.certified) {
             create_dir(dir)?;

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
+use safereach::core::budget::Work;
 
 use safereach::analysis::Verdict;
 use safereach::analysis::region_search::{RegionOptions, map_region};
@@ -36,6 +37,9 @@ pub struct RegionArgs {
     /// Most halvings on the way from the whole box to a leaf.
     #[arg(long, default_value_t = 12)]
     depth: u32,
+    /// Budget: the most boxes decided (default 1,000,000); boxes past it are left undecided.
+    #[arg(long, value_name = "N")]
+    max_boxes: Option<u64>,
     /// Do not halve an axis narrower than this fraction of its whole range.
     #[arg(long, value_name = "FRACTION", default_value_t = 0.0)]
     min_width: f64,
@@ -77,6 +81,9 @@ pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
     let options = RegionOptions {
         depth: args.depth,
         min_width: args.min_width,
+        max_boxes: args
+            .max_boxes
+            .unwrap_or_else(|| Work::Boxes.default_limit()),
     };
     let bar = progress();
     let on_decided = |share: f64| bar.inc((share * 1000.0).round() as u64);

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 
 use safereach::analysis;
+use safereach::core::budget::{Budget, Work};
 use safereach::core::model::Problem;
 use safereach::core::num::Exact;
 use safereach::core::output::trace_for_path;
@@ -35,6 +36,10 @@ pub struct SimulateArgs {
     /// Number of random runs.
     #[arg(long, default_value_t = 1000, conflicts_with = "replay")]
     pub(super) runs: usize,
+    /// Budget: the most control periods the runs may simulate in all, counted as runs times
+    /// each run's horizon (default 2,000,000,000, about a minute).
+    #[arg(long, value_name = "N", conflicts_with = "replay")]
+    pub(super) max_periods: Option<u64>,
     /// Seed of the first run (run i uses seed + i).
     #[arg(long, default_value_t = 0, conflicts_with = "replay")]
     pub(super) seed: u64,
@@ -62,7 +67,15 @@ pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
     if args.runs == 0 {
         anyhow::bail!("--runs must be at least 1");
     }
-    match input::problem_or_scene(path, &args.sets)? {
+    let input = input::problem_or_scene(path, &args.sets)?;
+    let horizon = match &input {
+        Input::Problem(p) => simulate::horizon(&analysis::params_f64(&p.params::<Exact>())),
+        Input::Scene(s) => safereach::core::scene::simulate::horizon(&s.params::<f64>()),
+    };
+    let budget = Budget::new(Work::SimulatedPeriods, args.max_periods);
+    simulate::runs_within(&budget, args.runs, horizon)
+        .with_context(|| format!("{}: --runs {}", path.display(), args.runs))?;
+    match input {
         Input::Problem(p) => random(
             &p,
             args.runs,

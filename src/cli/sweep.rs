@@ -12,7 +12,8 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use safereach::analysis::Verdict;
-use safereach::analysis::sweep::{self, CellResult, Grid, Shard};
+use safereach::analysis::sweep::{self, CellResult, Grid, Shard, SweepBudget};
+use safereach::core::budget::{Budget, Work};
 
 use super::exit::Exit;
 use super::output::{Output, create_dir, write_file};
@@ -34,6 +35,13 @@ pub struct SweepArgs {
     /// Output directory (JSON Lines and CSV, written atomically).
     #[arg(long)]
     out: PathBuf,
+    /// Budget: the most cells this run (its shard) analyses (default 1,000,000).
+    #[arg(long, value_name = "N")]
+    max_cells: Option<u64>,
+    /// Budget: the most control periods the Monte Carlo runs simulate in all, counted as
+    /// runs times each cell's horizon (default 2,000,000,000).
+    #[arg(long, value_name = "N")]
+    max_periods: Option<u64>,
 }
 
 /// Runs `safereach sweep`: exit 0 when the results are written.
@@ -46,7 +54,11 @@ pub fn run(args: SweepArgs, out: &mut Output) -> Result<Exit> {
     let runs = args.runs.unwrap_or(grid.runs);
     let seed = args.seed.unwrap_or(grid.seed);
     let start = Instant::now();
-    let results = run_grid(&grid, shard, runs, seed)?;
+    let budget = SweepBudget {
+        cells: Budget::new(Work::Cells, args.max_cells),
+        periods: Budget::new(Work::SimulatedPeriods, args.max_periods),
+    };
+    let results = run_grid(&grid, shard, runs, seed, &budget)?;
     let elapsed = start.elapsed();
     create_dir(&args.out)?;
     let stem = if shard == Shard::ALL {
@@ -87,11 +99,17 @@ fn progress(len: usize) -> ProgressBar {
 }
 
 /// Analyses the cells of `grid` that `shard` owns, showing progress.
-pub fn run_grid(grid: &Grid, shard: Shard, runs: usize, seed: u64) -> Result<Vec<CellResult>> {
-    let owned = (0..grid.len()).filter(|&c| shard.owns(c)).count();
+pub fn run_grid(
+    grid: &Grid,
+    shard: Shard,
+    runs: usize,
+    seed: u64,
+    budget: &SweepBudget,
+) -> Result<Vec<CellResult>> {
+    let owned = shard.share(grid.len());
     let bar = progress(owned);
     let results = grid
-        .run(shard, runs, seed, || bar.inc(1))
+        .run(shard, runs, seed, budget, || bar.inc(1))
         .context("sweep failed")?;
     bar.finish_and_clear();
     Ok(results)

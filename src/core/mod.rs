@@ -1,6 +1,7 @@
 //! The bottom layer: numbers, exact rationals, the problem model and the one semantics every
 //! engine runs. Nothing here knows about programs, solvers, certificates or monitors.
 
+pub mod budget;
 pub mod model;
 pub mod num;
 pub mod output;

@@ -259,6 +259,24 @@ pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
     rows
 }
 
+/// `runs` random runs of up to `horizon` periods each (see [`horizon`]), if within `budget`
+/// (of [`Work::SimulatedPeriods`](crate::core::budget::Work::SimulatedPeriods)).
+pub fn runs_within(
+    budget: &crate::core::budget::Budget,
+    runs: usize,
+    horizon: usize,
+) -> Result<(), crate::core::budget::OverBudget> {
+    let needed = (runs as u64).checked_mul(horizon as u64);
+    budget.allow(
+        format!(
+            "{} runs of up to {} control periods each",
+            crate::core::budget::grouped(runs as u64),
+            crate::core::budget::grouped(horizon as u64)
+        ),
+        needed,
+    )
+}
+
 /// The number of periods after which a run certainly has ended: the robot reaches the
 /// obstacle's (farthest) start within this many periods even if the obstacle stands still,
 /// then stops within v_max/(b_min·dt) more (the plant's braking).

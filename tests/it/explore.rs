@@ -668,12 +668,27 @@ fn the_state_budget_ends_inconclusive() {
     let p = spec.problem();
     let full = run(&p, speeds(&p, 3));
     assert_eq!(full.verdict, ExploreVerdict::Safe);
-    let e = explore::explore(&p, speeds(&p, 3), &Options { max_states: 50 }).unwrap();
+    let e = explore::explore(
+        &p,
+        speeds(&p, 3),
+        &Options {
+            max_states: 50,
+            ..Options::default()
+        },
+    )
+    .unwrap();
     assert_eq!(e.verdict, ExploreVerdict::Inconclusive);
     assert!(!e.complete);
     assert_eq!(e.states, 50);
     assert!(matches!(
-        explore::explore(&p, speeds(&p, 3), &Options { max_states: 0 }),
+        explore::explore(
+            &p,
+            speeds(&p, 3),
+            &Options {
+                max_states: 0,
+                ..Options::default()
+            }
+        ),
         Err(ExploreError::Options(_))
     ));
     // A collision found before the budget is still a collision.
@@ -690,6 +705,7 @@ fn the_state_budget_ends_inconclusive() {
         speeds(&p, 2),
         &Options {
             max_states: total - 1,
+            ..Options::default()
         },
     )
     .unwrap();

@@ -12,6 +12,7 @@ mod common;
 mod analysis;
 mod bad_input;
 mod bad_input_cli;
+mod bounded_work_cli;
 mod certificate;
 mod cli;
 mod explore;

@@ -33,6 +33,7 @@ fn map(problem: &Problem, axes: Vec<Axis>, depth: u32) -> RegionMap {
     let options = RegionOptions {
         depth,
         min_width: 0.0,
+        ..RegionOptions::default()
     };
     let m = map_region(problem, &whole, &options, &|_| {}).expect("mappable");
     check_map(&m).expect("the map checks");

@@ -182,7 +182,15 @@ fn exact_params(scene: &Scene) -> SceneParams<Exact> {
 }
 
 fn explore_with(scene: &Scene, speeds: SceneSpeeds, max_states: usize) -> SceneExploration {
-    explore_scene(scene, speeds, &Options { max_states }).expect("exploration succeeds")
+    explore_scene(
+        scene,
+        speeds,
+        &Options {
+            max_states,
+            ..Options::default()
+        },
+    )
+    .expect("exploration succeeds")
 }
 
 fn to_f64(x: &Exact) -> f64 {
@@ -818,7 +826,10 @@ fn a_budget_or_a_horizon_never_gives_a_false_safe() {
     let zero = explore_scene(
         &refused,
         SceneSpeeds::extremes(&exact_params(&refused)),
-        &Options { max_states: 0 },
+        &Options {
+            max_states: 0,
+            ..Options::default()
+        },
     );
     assert!(zero.is_err());
 }
@@ -937,7 +948,7 @@ fn cli_scene_budget_and_bad_input() {
         .get_output()
         .clone();
     assert!(
-        stdout(&out).contains("inconclusive: state budget exhausted (500 states)"),
+        stdout(&out).contains("inconclusive: state budget reached (500 states)"),
         "{}",
         stdout(&out)
     );

@@ -184,6 +184,7 @@ fn agree(
 ) -> (SceneGridExploration, SceneExploration) {
     let options = Options {
         max_states: 400_000,
+        ..Options::default()
     };
     let m = export(scene, &speeds);
     let g = uppaal::explore_scene_grid(&m, &options).expect("the network runs");

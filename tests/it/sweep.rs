@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use safereach::analysis::scene::analyse_scene;
-use safereach::analysis::sweep::{self, Grid, Shard};
+use safereach::analysis::sweep::{self, Grid, Shard, SweepBudget};
 use safereach::analysis::{Verdict, analyse};
 use safereach::core::num::f64_at_most;
 
@@ -35,7 +35,9 @@ fn cells_are_the_cartesian_product_last_axis_fastest() {
 #[test]
 fn every_cell_equals_a_single_analysis() {
     let grid = seed_grid();
-    let results = grid.run(Shard::ALL, 0, 0, || {}).expect("sweeps");
+    let results = grid
+        .run(Shard::ALL, 0, 0, &SweepBudget::default(), || {})
+        .expect("sweeps");
     assert_eq!(results.len(), grid.len());
     for r in &results {
         let problem = grid.problem(r.cell).expect("cell problem");
@@ -62,7 +64,9 @@ fn every_cell_equals_a_single_analysis() {
 fn every_scene_cell_equals_a_scene_analysis() {
     let grid = Grid::load(&root().join("problems/scene-oncoming-grid.toml")).expect("loads");
     assert!(grid.scene);
-    let results = grid.run(Shard::ALL, 10, 3, || {}).expect("sweeps");
+    let results = grid
+        .run(Shard::ALL, 10, 3, &SweepBudget::default(), || {})
+        .expect("sweeps");
     for r in &results {
         let sweep::CellInput::Scene(scene) = grid.input(r.cell).expect("cell") else {
             panic!("a scene grid's cells are scenes");
@@ -82,11 +86,19 @@ fn every_scene_cell_equals_a_scene_analysis() {
 #[test]
 fn shards_merged_equal_the_whole_sweep() {
     let grid = seed_grid();
-    let whole = grid.run(Shard::ALL, 20, 5, || {}).expect("sweeps");
+    let whole = grid
+        .run(Shard::ALL, 20, 5, &SweepBudget::default(), || {})
+        .expect("sweeps");
     let parts: Vec<_> = (0..3)
         .map(|i| {
-            grid.run(Shard { index: i, count: 3 }, 20, 5, || {})
-                .expect("shard sweeps")
+            grid.run(
+                Shard { index: i, count: 3 },
+                20,
+                5,
+                &SweepBudget::default(),
+                || {},
+            )
+            .expect("shard sweeps")
         })
         .collect();
     assert!(parts.iter().all(|p| !p.is_empty() && p.len() < whole.len()));
@@ -102,7 +114,9 @@ fn shards_merged_equal_the_whole_sweep() {
 #[test]
 fn jsonl_round_trips_and_csv_has_one_row_per_cell() {
     let grid = seed_grid();
-    let results = grid.run(Shard::ALL, 10, 1, || {}).expect("sweeps");
+    let results = grid
+        .run(Shard::ALL, 10, 1, &SweepBudget::default(), || {})
+        .expect("sweeps");
     let keys: Vec<String> = grid.axes.iter().map(|(k, _)| k.clone()).collect();
     let text = sweep::to_jsonl(&results);
     assert_eq!(
@@ -120,7 +134,9 @@ fn jsonl_round_trips_and_csv_has_one_row_per_cell() {
 #[test]
 fn simulation_never_contradicts_a_certified_cell() {
     let grid = seed_grid();
-    let results = grid.run(Shard::ALL, 200, 11, || {}).expect("sweeps");
+    let results = grid
+        .run(Shard::ALL, 200, 11, &SweepBudget::default(), || {})
+        .expect("sweeps");
     for r in results.iter().filter(|r| r.verdict == Verdict::Certified) {
         assert_eq!(r.collisions, Some(0), "cell {}", r.cell);
         assert!(r.simulated_min_separation.unwrap() >= r.lower_bound.unwrap() - 1e-9);

@@ -316,9 +316,17 @@ fn scene_grid_without_two_axes_says_why_it_has_no_figures() {
 /// CSV column; it is the analyser's witness obstacle.
 #[test]
 fn scene_worst_cases_round_trip_through_jsonl_and_csv() {
-    use safereach::analysis::sweep::{self, Grid, Shard};
+    use safereach::analysis::sweep::{self, Grid, Shard, SweepBudget};
     let grid = Grid::load(&root().join("problems/scene-oncoming-grid.toml")).unwrap();
-    let results: Vec<_> = grid.run(Shard { index: 0, count: 8 }, 0, 0, || {}).unwrap();
+    let results: Vec<_> = grid
+        .run(
+            Shard { index: 0, count: 8 },
+            0,
+            0,
+            &SweepBudget::default(),
+            || {},
+        )
+        .unwrap();
     let keys: Vec<String> = grid.axes.iter().map(|(k, _)| k.clone()).collect();
     let back = sweep::from_jsonl(&sweep::to_jsonl(&results), &keys, "test").unwrap();
     assert_eq!(back, results);

@@ -490,7 +490,14 @@ fn the_interpreter_catches_broken_networks() {
         matches!(&err, UppaalError::Run(m) if m.contains("not exact")),
         "{err}"
     );
-    let budget = uppaal::explore_grid(&m, &Options { max_states: 10 }).unwrap();
+    let budget = uppaal::explore_grid(
+        &m,
+        &Options {
+            max_states: 10,
+            ..Options::default()
+        },
+    )
+    .unwrap();
     assert_eq!(budget.verdict, ExploreVerdict::Inconclusive);
 }
 

@@ -61,6 +61,7 @@ pub fn certified_map(grid: &Grid) -> Result<Option<RegionMap>, String> {
     let options = RegionOptions {
         depth: DEPTH,
         min_width: 0.0,
+        ..RegionOptions::default()
     };
     map_region(&problem, &whole, &options, &|_| {})
         .map(Some)

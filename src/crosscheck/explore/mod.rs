@@ -101,7 +101,10 @@ pub use model::{FiniteModel, State, StateKey, Status, Transition};
 pub use search::{Exploration, Path, explore, explore_model};
 pub use speeds::{SpeedSet, show_exact};
 
-/// Default state budget: under 1 GB of memory at the measured 320–450 bytes per state.
+use crate::core::budget::Work;
+
+/// Default state budget: under 1 GB of memory at the measured 320–450 bytes per state (and
+/// [`Options::max_memory`] lowers it for larger states).
 pub const DEFAULT_MAX_STATES: usize = 2_000_000;
 
 /// Largest `--speeds N` accepted (the number of actions per state).
@@ -133,14 +136,52 @@ pub enum ExploreError {
 pub struct Options {
     /// Stop with `inconclusive` once this many distinct states are stored.
     pub max_states: usize,
+    /// Memory budget of the stored states (bytes): the state limit is lowered to what fits
+    /// at [`bytes_per_state`] each (a long latency makes every state large).
+    pub max_memory: u64,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
             max_states: DEFAULT_MAX_STATES,
+            max_memory: Work::ExploreMemory.default_limit(),
         }
     }
+}
+
+impl Options {
+    /// The most states stored: `max_states`, or fewer when that many states of
+    /// `bytes_per_state` bytes would pass `max_memory` (at least 1).
+    pub fn state_limit(&self, bytes_per_state: u64) -> usize {
+        let fit = self.max_memory / bytes_per_state.max(1);
+        self.max_states
+            .min(usize::try_from(fit).unwrap_or(usize::MAX))
+            .max(1)
+    }
+}
+
+/// Why a search stopped short, and what raises it: the state budget, or the memory budget
+/// when that held fewer states (`state_limit` < `options.max_states`).
+pub fn budget_reached(states: usize, state_limit: usize, options: &Options) -> String {
+    if state_limit < options.max_states {
+        format!(
+            "memory budget reached ({states} states; {} MiB holds {state_limit} states of \
+             this model's size); raise --max-memory, or use fewer --speeds",
+            options.max_memory >> 20
+        )
+    } else {
+        format!("state budget reached ({states} states); raise --max-states or use fewer --speeds")
+    }
+}
+
+/// Bytes a stored state takes, over-estimated: ~450 measured for the seed's small
+/// latencies, plus ~57 per pending observation (latency 999 measured 57 KB per state; 72
+/// counted, for the search's own overhead), each kept in the state and in its key, per
+/// moving obstacle.
+pub fn bytes_per_state(latency: usize, obstacles: usize) -> u64 {
+    let obstacles = obstacles.max(1) as u64;
+    obstacles.saturating_mul(512u64.saturating_add((latency as u64).saturating_mul(72)))
 }
 
 /// The explorer's three-valued answer.

@@ -37,6 +37,9 @@ pub struct Exploration {
     pub complete: bool,
     /// Distinct states stored (init state included).
     pub states: usize,
+    /// The state limit the search ran with: [`Options::max_states`], or fewer when
+    /// [`Options::max_memory`] holds fewer states of this model's size.
+    pub state_limit: usize,
     /// Transitions computed (calls of the step function).
     pub transitions: usize,
     /// Length of the longest path explored, in control periods.
@@ -141,7 +144,8 @@ pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Explorati
     }
     let mut watch = Watch::default();
     let init = model.init_states().into_iter().map(|s| (model.key(&s), s));
-    let reached = bfs::search(init, options.max_states, |id, state, next| {
+    let state_limit = options.state_limit(super::bytes_per_state(model.params().L, 1));
+    let reached = bfs::search(init, state_limit, |id, state, next| {
         expand(model, &mut watch, id, state, next)
     })?;
     let counterexample = watch
@@ -170,6 +174,7 @@ pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Explorati
         verdict,
         complete: reached.complete,
         states: reached.states,
+        state_limit,
         transitions: watch.transitions,
         depth: watch.depth,
         min_separation: watch.min_separation,

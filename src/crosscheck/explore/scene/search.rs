@@ -71,6 +71,9 @@ pub struct SceneExploration {
     pub complete: bool,
     /// The state budget ran out.
     pub budget_exhausted: bool,
+    /// The state limit the search ran with: [`Options::max_states`], or fewer when
+    /// [`Options::max_memory`] holds fewer states of this model's size.
+    pub state_limit: usize,
     /// Some branch was still running at the horizon.
     pub horizon_reached: bool,
     /// The horizon, in periods.
@@ -225,7 +228,12 @@ pub fn explore_scene_model(
             .collect(),
         horizon_reached: false,
     };
-    let reached = bfs::search(init, options.max_states, |id, state, next| {
+    let params = model.params();
+    let state_limit = options.state_limit(crate::crosscheck::explore::bytes_per_state(
+        params.robot.L,
+        params.obstacles.len(),
+    ));
+    let reached = bfs::search(init, state_limit, |id, state, next| {
         expand(model, &mut watch, id, state, next);
         Ok::<(), ExploreError>(())
     })?;
@@ -272,6 +280,7 @@ pub fn explore_scene_model(
         verdict,
         complete,
         budget_exhausted: !reached.complete,
+        state_limit,
         horizon_reached: watch.horizon_reached,
         horizon: model.horizon(),
         states: reached.states,
