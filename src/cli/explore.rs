@@ -48,7 +48,8 @@ pub struct ExploreArgs {
     #[arg(long, value_name = "N|LIST")]
     speeds: Option<String>,
     /// Stop with `inconclusive` after this many distinct states (bounds memory; default
-    /// 2000000 for a problem, 600000 for a scene: under 1 GB either way).
+    /// 2000000 for a problem, 600000 for a scene: under 1 GB at small latencies; --max-memory
+    /// lowers it for large states).
     #[arg(long, value_name = "N")]
     max_states: Option<usize>,
     /// Memory budget for the stored states, in MiB (default 2048): with a long latency every

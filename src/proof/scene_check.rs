@@ -24,8 +24,8 @@ use crate::proof::scene_certificate::{
 };
 use crate::proof::scene_schedule::SceneDecomposition;
 use crate::proof::schedule::{Ending, Piece};
-use crate::proof::separation::{Bracket, check_stated};
-use crate::proof::verdict::{TRACE_TOLERANCE, Verdict};
+use crate::proof::separation::{Stated, settle};
+use crate::proof::verdict::TRACE_TOLERANCE;
 use crate::proof::witness_schedule::{RunSchedule, realises};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
@@ -98,28 +98,16 @@ pub fn check_scene(cert: &SceneCertificate) -> Result<CheckReport, Invalid> {
     let certified = lower
         .as_ref()
         .is_some_and(|l| *l > exact_decimal(cert.scene.robot.clearance));
-    let verdict = match (certified, collides) {
-        (true, true) => return invalid("the proofs certify, yet the witness collides"),
-        (true, false) => Verdict::Certified,
-        (false, true) => Verdict::Refuted,
-        (false, false) => Verdict::Inconclusive,
-    };
-    if verdict != cert.verdict {
-        return invalid(format!(
-            "stated verdict {} does not follow; the evidence gives {}",
-            cert.verdict.as_str(),
-            verdict.as_str()
-        ));
-    }
-    let bracket = Bracket::of(
-        cert.lower_bound,
-        cert.witness.as_ref().and_then(|w| w.separation),
-    );
-    check_stated(
-        verdict,
-        cert.min_separation,
-        cert.separation_tolerance,
-        bracket,
+    let verdict = settle(
+        certified,
+        collides,
+        Stated {
+            verdict: cert.verdict,
+            min_separation: cert.min_separation,
+            tolerance: cert.separation_tolerance,
+            lower_bound: cert.lower_bound,
+            witness_separation: cert.witness.as_ref().and_then(|w| w.separation),
+        },
     )
     .map_err(Invalid)?;
     Ok(CheckReport {

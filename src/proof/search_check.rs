@@ -22,8 +22,7 @@ use crate::proof::search_certificate::{
     RunWitness, SEARCH_FORMAT, SearchCertificate, exact_from_text, exact_text,
     obstacle_separations, witness_starts,
 };
-use crate::proof::separation::{Bracket, check_stated};
-use crate::proof::verdict::Verdict;
+use crate::proof::separation::{Stated, settle};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
     Err(Invalid(msg.into()))
@@ -100,34 +99,18 @@ pub fn check_search(cert: &SearchCertificate) -> Result<CheckReport, Invalid> {
     };
     let clearance = Rational::from_exact(&<Exact as Scalar>::decimal(scene.robot.clearance));
     let certified = !search.unbounded() && star.as_ref().is_none_or(|s| *s > clearance);
-    let verdict = if certified {
-        Verdict::Certified
-    } else if collides {
-        Verdict::Refuted
-    } else {
-        Verdict::Inconclusive
-    };
-    if certified && collides {
-        return invalid("s* is above the clearance but the witness collides");
-    }
-    let bracket = Bracket::of(
-        cert.lower_bound,
-        cert.witness.as_ref().and_then(|w| w.separation),
-    );
-    check_stated(
-        verdict,
-        cert.min_separation,
-        cert.separation_tolerance,
-        bracket,
+    let verdict = settle(
+        certified,
+        collides,
+        Stated {
+            verdict: cert.verdict,
+            min_separation: cert.min_separation,
+            tolerance: cert.separation_tolerance,
+            lower_bound: cert.lower_bound,
+            witness_separation: cert.witness.as_ref().and_then(|w| w.separation),
+        },
     )
     .map_err(Invalid)?;
-    if verdict != cert.verdict {
-        return invalid(format!(
-            "stated verdict {}, the search and witness give {}",
-            cert.verdict.as_str(),
-            verdict.as_str()
-        ));
-    }
     Ok(CheckReport {
         verdict,
         pieces: search.stats.leaves,

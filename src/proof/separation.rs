@@ -79,6 +79,50 @@ pub fn stated(
 /// Checks a certificate's stated s* (`stated`) and declared tolerance against its bracket
 /// (built from its verified lower bound and witness separation); the error says what is
 /// wrong in the certificate's terms.
+/// What a certificate states about its outcome, for [`settle`].
+#[derive(Clone, Copy, Debug)]
+pub struct Stated {
+    /// The stated verdict.
+    pub verdict: Verdict,
+    /// The stated s* (`min_separation`).
+    pub min_separation: Option<f64>,
+    /// The declared bracket width (`separation_tolerance`).
+    pub tolerance: f64,
+    /// The stated lower bound.
+    pub lower_bound: Option<f64>,
+    /// The stated separation of the witness.
+    pub witness_separation: Option<f64>,
+}
+
+/// The verdict the evidence gives — `certified` when the proofs put s* above the clearance,
+/// `refuted` when the replayed witness collides, else `inconclusive` — held to the stated
+/// one, and the stated s* held to its bracket ([`check_stated`]). Shared by every
+/// certificate kind's check, so that all of them settle an outcome alike.
+pub fn settle(certified: bool, collides: bool, stated: Stated) -> Result<Verdict, String> {
+    let verdict = match (certified, collides) {
+        (true, true) => return Err("the proofs certify, yet the witness collides".into()),
+        (true, false) => Verdict::Certified,
+        (false, true) => Verdict::Refuted,
+        (false, false) => Verdict::Inconclusive,
+    };
+    if verdict != stated.verdict {
+        return Err(format!(
+            "stated verdict {} does not follow; the evidence gives {}",
+            stated.verdict.as_str(),
+            verdict.as_str()
+        ));
+    }
+    check_stated(
+        verdict,
+        stated.min_separation,
+        stated.tolerance,
+        Bracket::of(stated.lower_bound, stated.witness_separation),
+    )?;
+    Ok(verdict)
+}
+
+/// The stated s* held to its bracket: inside it, and the bracket no wider than the declared
+/// tolerance.
 pub fn check_stated(
     verdict: Verdict,
     stated: Option<f64>,
