@@ -223,7 +223,15 @@ impl Grid {
             path: shown.clone(),
             source,
         })?;
-        let file: GridFile = toml::from_str(&text).map_err(|e| GridError::Invalid {
+        Self::from_toml_str(&text, path)
+    }
+
+    /// Reads a grid from its TOML `text`, as if it were the file at `path`: `path` names the
+    /// grid in errors and gives its name, and the base problem is read from disk relative to
+    /// `path`'s directory. [`Grid::load`] is this after reading the file.
+    pub fn from_toml_str(text: &str, path: &Path) -> Result<Grid, GridError> {
+        let shown = path.display().to_string();
+        let file: GridFile = toml::from_str(text).map_err(|e| GridError::Invalid {
             path: shown.clone(),
             reason: e.to_string(),
         })?;
