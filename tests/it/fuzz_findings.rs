@@ -9,6 +9,8 @@ use std::path::Path;
 use safereach::analysis::sweep::Grid;
 use safereach::monitor::trace::Format;
 use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::region_check::check_map;
+use safereach::proof::region_map::RegionMap;
 
 use crate::common::cli::safereach;
 use crate::common::paths::root;
@@ -107,6 +109,47 @@ fn a_certificate_that_is_not_a_json_object_is_refused_in_the_users_terms() {
         err.contains("string.json") && err.contains("a certificate is a JSON object"),
         "{err}"
     );
+}
+
+/// Found by the `certificate` target (`finding-map-stated-bound.json`: a region map with a
+/// multiplier edited and its digest recomputed): the map check showed the stated bound in
+/// Rust's debug syntax, "proof 0: stated bound Some(0.1199999999991538), the multipliers
+/// prove -1.28…"; likewise a leaf's stated lower bound.
+#[test]
+fn a_region_maps_stated_bounds_are_shown_as_numbers() {
+    let text =
+        std::fs::read_to_string(root().join("fuzz/corpus/certificate/map.json")).expect("readable");
+    let map: RegionMap = serde_json::from_str(&text).expect("a map");
+    check_map(&map).expect("the committed map is valid");
+    let resigned = |mut m: RegionMap| {
+        m.digest = m.compute_digest();
+        check_map(&m).expect_err("an edited map").to_string()
+    };
+
+    let mut edited = map.clone();
+    edited.leaves[0].proofs[0].multipliers[0] = 0.0000000000051736;
+    let e = resigned(edited);
+    assert!(
+        e.contains("proof 0: stated bound 0.1199999999991538, the multipliers prove"),
+        "{e}"
+    );
+
+    let mut edited = map.clone();
+    edited.leaves[0].lower_bound = Some(0.11);
+    let e = resigned(edited);
+    assert!(
+        e.contains("stated lower bound 0.11, the proofs give 0.1199"),
+        "{e}"
+    );
+
+    let mut edited = map;
+    edited.leaves[0].lower_bound = None;
+    let e = resigned(edited);
+    assert!(
+        e.contains("stated lower bound none, the proofs give 0.1199"),
+        "{e}"
+    );
+    assert!(!e.contains("Some(") && !e.contains("None"), "{e}");
 }
 
 /// `Grid::from_toml_str` (added for the `grid` target) reads a grid as `Grid::load` does.
