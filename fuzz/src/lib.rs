@@ -34,7 +34,7 @@ pub fn assert_user_message(message: &str, input: &str) {
     }
 }
 
-/// The first `Name { field: ` in `message`: a struct printed with `{:?}`.
+/// The first `Name { field: ` in `message` (a struct printed with `{:?}`), as `Name { field`.
 fn struct_dump(message: &str) -> Option<&str> {
     let mut from = 0;
     while let Some(k) = message[from..].find(" { ") {
@@ -53,7 +53,8 @@ fn struct_dump(message: &str) -> Option<&str> {
             && field_len > 0
             && rest[field_len..].starts_with(": ")
         {
-            return Some(&message[name_start..at + 3 + field_len + 2]);
+            // `Name { field`, without the `: ` a message of ours may add after a quote.
+            return Some(&message[name_start..at + 3 + field_len]);
         }
         from = at + 3;
     }
