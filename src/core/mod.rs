@@ -2,6 +2,7 @@
 //! engine runs. Nothing here knows about programs, solvers, certificates or monitors.
 
 pub mod budget;
+pub mod grid;
 pub mod model;
 pub mod num;
 pub mod output;

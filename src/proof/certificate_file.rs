@@ -42,6 +42,20 @@ impl CertificateFile {
     /// Parses certificate JSON of either kind (strictly: unknown fields are refused, and a
     /// certificate of an earlier format is named as such).
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
+        // A certificate is a JSON object. Anything else would be named by the reader's own
+        // type ("expected struct Tag"), and an array would be read field by field.
+        if let Some(c) = text.trim_start().chars().next()
+            && c != '{'
+        {
+            let shown = if c.is_alphanumeric() || c.is_ascii_punctuation() {
+                format!("`{c}`")
+            } else {
+                format!("U+{:04X}", u32::from(c))
+            };
+            return Err(<serde_json::Error as serde::de::Error>::custom(format!(
+                "a certificate is a JSON object ({{ ... }}); this text starts with {shown}"
+            )));
+        }
         let tag: Tag = serde_json::from_str(text)?;
         if EARLIER_FORMATS.contains(&tag.format.as_str()) {
             return Err(<serde_json::Error as serde::de::Error>::custom(format!(

@@ -18,7 +18,7 @@ use crate::core::num::{Exact, exact_float, f64_at_most};
 use crate::core::param_box::ParamBox;
 use crate::core::parameter::{ParamAffine, Parameter};
 use crate::core::simulate;
-use crate::proof::check::Invalid;
+use crate::proof::check::{Invalid, shown};
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::region_map::{
     BoxProof, Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, box_at,
@@ -210,8 +210,8 @@ fn check_leaf(problem: &Problem, b: &ParamBox, leaf: &Leaf) -> Result<(), Invali
             }
             if leaf.lower_bound != Some(f64_at_most(&lower)) {
                 return invalid(format!(
-                    "stated lower bound {:?}, the proofs give {}",
-                    leaf.lower_bound,
+                    "stated lower bound {}, the proofs give {}",
+                    shown(leaf.lower_bound),
                     f64_at_most(&lower)
                 ));
             }
@@ -277,8 +277,8 @@ pub fn box_margin(dec: &Decomposition, proofs: &[BoxProof]) -> Result<(Exact, Ex
                 let least = b.min_of(&bound, &dec.params);
                 if proof.bound != Some(f64_at_most(&least)) {
                     return invalid(format!(
-                        "proof {i}: stated bound {:?}, the multipliers prove {}",
-                        proof.bound,
+                        "proof {i}: stated bound {}, the multipliers prove {}",
+                        shown(proof.bound),
                         f64_at_most(&least)
                     ));
                 }

@@ -17,6 +17,10 @@ mod certificate;
 mod cli;
 mod explore;
 mod fixtures;
+mod fuzz_findings;
+/// The fuzz targets' properties (fuzz/src/), shared with [`fuzz_findings`].
+#[path = "../../fuzz/src/lib.rs"]
+mod fuzz_properties;
 mod monitor;
 mod monitor_cli;
 mod monitor_real;
