@@ -216,7 +216,7 @@ pub fn check_file(
     require: Option<Verdict>,
     out: &mut Output,
 ) -> Result<Exit> {
-    let map: RegionMap = serde_json::from_str(text)
+    let map: RegionMap = safereach::proof::json_read::from_json(text)
         .map_err(|e| anyhow::anyhow!("{}: not a safereach region map: {e}", path.display()))?;
     let whole = if map.all_certified() {
         Verdict::Certified

@@ -3,6 +3,8 @@
 
 use serde::Deserialize;
 
+use crate::proof::json_read::from_json;
+
 #[cfg(doc)]
 use crate::proof::certificate::FORMAT;
 use crate::proof::certificate::{CheckReport, Invalid, check};
@@ -56,7 +58,7 @@ impl CertificateFile {
                 "a certificate is a JSON object ({{ ... }}); this text starts with {shown}"
             )));
         }
-        let tag: Tag = serde_json::from_str(text)?;
+        let tag: Tag = from_json(text)?;
         if EARLIER_FORMATS.contains(&tag.format.as_str()) {
             return Err(<serde_json::Error as serde::de::Error>::custom(format!(
                 "its format {:?} was written by an earlier safereach, before certificates \
@@ -65,20 +67,14 @@ impl CertificateFile {
             )));
         }
         if tag.format == SEARCH_FORMAT {
-            return Ok(CertificateFile::Search(Box::new(serde_json::from_str(
-                text,
-            )?)));
+            return Ok(CertificateFile::Search(Box::new(from_json(text)?)));
         }
         if tag.format == SCENE_FORMAT {
-            Ok(CertificateFile::Scene(Box::new(serde_json::from_str(
-                text,
-            )?)))
+            Ok(CertificateFile::Scene(Box::new(from_json(text)?)))
         } else {
             // Any other tag is read as a single-obstacle certificate, whose check names a
             // wrong format (it accepts only [`FORMAT`]).
-            Ok(CertificateFile::Single(Box::new(serde_json::from_str(
-                text,
-            )?)))
+            Ok(CertificateFile::Single(Box::new(from_json(text)?)))
         }
     }
 

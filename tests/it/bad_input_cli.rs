@@ -130,6 +130,11 @@ fn every_bad_input_of_issue_15_is_answered_in_the_users_terms() {
     )
     .unwrap();
 
+    // A certificate whose field has the wrong JSON type.
+    let mut typed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture("seed.cert.json")).unwrap()).unwrap();
+    typed["problem"]["robot"]["max_speed"] = serde_json::json!([1]);
+    std::fs::write(d.join("typed-cert.json"), typed.to_string()).unwrap();
     let mut rows = vec![
         row(
             "a word for a number",
@@ -210,6 +215,14 @@ fn every_bad_input_of_issue_15_is_answered_in_the_users_terms() {
             "invalid UTF-8",
             &["certify", "utf8.toml"],
             &["utf8.toml", "not UTF-8", &utf8_place],
+        ),
+        row(
+            "a certificate field of the wrong JSON type",
+            &["check", "typed-cert.json"],
+            &[
+                "typed-cert.json: not a safereach certificate",
+                "problem.robot.max_speed: expected a number, got a list",
+            ],
         ),
         row(
             "a CSV without its header",
