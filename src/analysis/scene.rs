@@ -79,6 +79,9 @@ pub enum SceneAnalysisError {
     /// rather than resolved either way.
     #[error("internal inconsistency: {0}")]
     Inconsistent(String),
+    /// A search would pass its budget of analysed control periods.
+    #[error(transparent)]
+    OverBudget(#[from] crate::core::budget::OverBudget),
 }
 
 /// Analyses a (validated) scene.

@@ -14,6 +14,7 @@
 
 use crate::analysis::scene::SceneAnalysisError;
 use crate::analysis::scene_answer::SceneAnswer;
+use crate::core::budget::{Budget, Meter, Work, grouped};
 use crate::core::scene::Scene;
 use crate::proof::verdict::Verdict;
 
@@ -64,10 +65,29 @@ impl SceneRadius {
     }
 }
 
-fn at(scene: &Scene, rho: f64) -> Result<SceneAnswer, SceneAnalysisError> {
+fn at(scene: &Scene, rho: f64, meter: &Meter) -> Result<SceneAnswer, SceneAnalysisError> {
     let mut s = scene.clone();
     s.controller.reaction_radius = rho;
-    SceneAnswer::of(&s)
+    answer(&s, meter)
+}
+
+/// Analyses `scene` if its horizon fits in what is left of the search's budget of analysed
+/// periods.
+fn answer(scene: &Scene, meter: &Meter) -> Result<SceneAnswer, SceneAnalysisError> {
+    let horizon = crate::core::scene::simulate::horizon(&scene.params::<f64>()) as u64;
+    let done = meter.used();
+    meter.charge(
+        || {
+            format!(
+                "the search, after {} control periods analysed, one more scene analysis of {} \
+                 periods,",
+                grouped(done),
+                grouped(horizon)
+            )
+        },
+        horizon,
+    )?;
+    SceneAnswer::of(scene)
 }
 
 /// Searches the smallest certified reaction radius of a (validated) scene without lane
@@ -76,6 +96,16 @@ fn at(scene: &Scene, rho: f64) -> Result<SceneAnswer, SceneAnalysisError> {
 /// would not find the smallest: such a scene is refused, and a sweep over
 /// `controller.reaction_radius` answers it point by point.
 pub fn scene_radius(scene: &Scene) -> Result<SceneRadius, SceneAnalysisError> {
+    scene_radius_within(scene, Budget::default_for(Work::AnalysedPeriods))
+}
+
+/// [`scene_radius`] within `budget` of analysed periods (each analysis counts its scene's
+/// horizon); past it, [`SceneAnalysisError::OverBudget`].
+pub fn scene_radius_within(
+    scene: &Scene,
+    budget: Budget,
+) -> Result<SceneRadius, SceneAnalysisError> {
+    let meter = Meter::new(budget);
     if scene.lane_change.is_some() {
         return Err(SceneAnalysisError::Search(
             "the smallest safe radius is not searched with lane changes (the certified radii \
@@ -88,7 +118,7 @@ pub fn scene_radius(scene: &Scene) -> Result<SceneRadius, SceneAnalysisError> {
         .map(|i| scene.obstacles[i].position.max())
         .fold(TOLERANCE, f64::max);
     let cap = scene.sensing_range.unwrap_or(farthest);
-    let top = at(scene, cap)?;
+    let top = at(scene, cap, &meter)?;
     if top.verdict() != Verdict::Certified {
         return Ok(SceneRadius {
             value: None,
@@ -102,7 +132,7 @@ pub fn scene_radius(scene: &Scene) -> Result<SceneRadius, SceneAnalysisError> {
     let mut below = None;
     while hi - lo > TOLERANCE {
         let mid = 0.5 * (lo + hi);
-        let a = at(scene, mid)?;
+        let a = at(scene, mid, &meter)?;
         if a.verdict() == Verdict::Certified {
             hi = mid;
             best = a;
@@ -152,8 +182,19 @@ pub fn scene_max_speed(
     scene: &Scene,
     target: Option<usize>,
 ) -> Result<SceneMaxSpeed, SceneAnalysisError> {
+    scene_max_speed_within(scene, target, Budget::default_for(Work::AnalysedPeriods))
+}
+
+/// [`scene_max_speed`] within `budget` of analysed periods (each analysis counts its
+/// scene's horizon); past it, [`SceneAnalysisError::OverBudget`].
+pub fn scene_max_speed_within(
+    scene: &Scene,
+    target: Option<usize>,
+    budget: Budget,
+) -> Result<SceneMaxSpeed, SceneAnalysisError> {
+    let meter = Meter::new(budget);
     let targets = |i: usize| target.is_none_or(|t| t == i);
-    let zero = SceneAnswer::of(&with_speed(scene, &targets, 0.0))?;
+    let zero = answer(&with_speed(scene, &targets, 0.0), &meter)?;
     if zero.verdict() != Verdict::Certified {
         return Ok(SceneMaxSpeed {
             value: None,
@@ -166,7 +207,7 @@ pub fn scene_max_speed(
     let (mut lo, mut best) = (0.0, zero);
     let mut hi = 0.1;
     let mut above = loop {
-        let a = SceneAnswer::of(&with_speed(scene, &targets, hi))?;
+        let a = answer(&with_speed(scene, &targets, hi), &meter)?;
         if a.verdict() != Verdict::Certified {
             break a;
         }
@@ -183,7 +224,7 @@ pub fn scene_max_speed(
     };
     while hi - lo > TOLERANCE {
         let mid = 0.5 * (lo + hi);
-        let a = SceneAnswer::of(&with_speed(scene, &targets, mid))?;
+        let a = answer(&with_speed(scene, &targets, mid), &meter)?;
         if a.verdict() == Verdict::Certified {
             (lo, best) = (mid, a);
         } else {

@@ -81,7 +81,8 @@ fn scene_max_speed(scene: &Scene, args: &MaxSpeedArgs, out: &mut Output) -> Resu
         ),
         None => None,
     };
-    let m = safereach::analysis::scene_radius::scene_max_speed(scene, target)
+    let budget = Budget::new(Work::AnalysedPeriods, args.max_periods);
+    let m = safereach::analysis::scene_radius::scene_max_speed_within(scene, target, budget)
         .map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
     if let (Some(path), Some(_)) = (&args.out, m.value) {
         let text = m.at.certificate().to_json();

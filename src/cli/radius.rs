@@ -150,7 +150,8 @@ fn scene_radius(
             }
             s.validate(&format!("--speeds {}", value(w)))?;
         }
-        let r = safereach::analysis::scene_radius::scene_radius(&s)
+        let budget = Budget::new(Work::AnalysedPeriods, args.max_periods);
+        let r = safereach::analysis::scene_radius::scene_radius_within(&s, budget)
             .map_err(|e| anyhow::anyhow!("{}: {e}", s.name))?;
         all &= r.value.is_some();
         let label = match (w, &args.obstacle) {

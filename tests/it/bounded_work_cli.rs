@@ -71,6 +71,7 @@ fn work_past_a_budget_is_refused_or_inconclusive_naming_the_flag() {
     let d = dir.path();
     std::fs::copy(seed_file(), d.join("seed.toml")).unwrap();
     std::fs::copy(problem_file("area-rule.toml"), d.join("area.toml")).unwrap();
+    std::fs::copy(problem_file("scene-oncoming.toml"), d.join("scene.toml")).unwrap();
     let keys = [
         "robot.max_speed",
         "robot.braking",
@@ -106,6 +107,26 @@ fn work_past_a_budget_is_refused_or_inconclusive_naming_the_flag() {
                 &[
                     "analysed control periods",
                     "budget of 100,000",
+                    "--max-periods raises it",
+                ],
+            ),
+            row(
+                "a scene's radius search past its budget",
+                &["radius", "scene.toml", "--max-periods", "1000"],
+                2,
+                &[
+                    "scene analysis",
+                    "budget of 1,000",
+                    "--max-periods raises it",
+                ],
+            ),
+            row(
+                "a scene's speed search past its budget",
+                &["max-speed", "scene.toml", "--max-periods", "1000"],
+                2,
+                &[
+                    "scene analysis",
+                    "budget of 1,000",
                     "--max-periods raises it",
                 ],
             ),
