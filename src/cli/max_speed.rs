@@ -30,7 +30,7 @@ pub struct MaxSpeedArgs {
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
     /// Budget: the most control periods the search may analyse in all, each analysis
-    /// counting its problem's horizon (default 1,000,000).
+    /// counting its problem's horizon (default 20,000,000).
     #[arg(long, value_name = "N")]
     max_periods: Option<u64>,
     /// In a scene: the obstacle (by name) whose bound is searched; default every moving

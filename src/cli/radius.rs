@@ -35,7 +35,7 @@ pub struct RadiusArgs {
     #[arg(long, value_name = "DIR")]
     certificates: Option<PathBuf>,
     /// Budget: the most control periods the search may analyse in all, each analysis
-    /// counting its problem's horizon (default 1,000,000).
+    /// counting its problem's horizon (default 20,000,000).
     #[arg(long, value_name = "N")]
     max_periods: Option<u64>,
     /// In a scene: the obstacle (by name) whose bound `--speeds` sets; default every moving

@@ -54,10 +54,10 @@ impl Work {
         match self {
             // ~40 million float periods per second (the seed's Monte Carlo).
             Work::SimulatedPeriods => 2_000_000_000,
-            // An analysis's cost per period varies with how many periods its programs keep
-            // (6,000–150,000 periods per second measured): about a minute in the worst case
-            // seen (the area-rule problem at dt = 0.000113 s, 495,580 periods per analysis).
-            Work::AnalysedPeriods => 1_000_000,
+            // ~1,000,000 exact periods per second in a search's analyses, measured on the
+            // area-rule problem at dt = 0.000113 s (495,580 periods per analysis: the whole
+            // radius search, 7 analyses, in 6 s).
+            Work::AnalysedPeriods => 20_000_000,
             // ~2,000–5,000 cells per second on two cores.
             Work::Cells => 1_000_000,
             Work::ExploreMemory => 2 << 30,
