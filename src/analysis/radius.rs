@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::{
     self, Analysis, AnalysisError, Options, PieceResult, Verdict, WitnessPolicy,
 };
-use crate::core::budget::{Budget, Meter, Work, grouped};
+use crate::core::budget::{Budget, Meter, Work};
 use crate::core::model::{DangerRule, Problem};
 use crate::core::num::{Exact, exact_decimal};
 use crate::core::parameter::Parameter as Named;
@@ -245,18 +245,7 @@ impl Spent {
     /// Analyses `problem` if its horizon fits in what is left of the budget.
     fn analyse(&mut self, problem: &Problem, options: Options) -> Result<Analysis, AnalysisError> {
         let horizon = simulate::horizon(&problem.params::<f64>()) as u64;
-        let done = self.meter.used();
-        self.meter.charge(
-            || {
-                format!(
-                    "the search, after {} control periods analysed, one more analysis of {} \
-                     periods,",
-                    grouped(done),
-                    grouped(horizon)
-                )
-            },
-            horizon,
-        )?;
+        self.meter.charge_analysis("analysis", horizon)?;
         analysis::analyse_with(problem, options)
     }
 }

@@ -14,7 +14,7 @@
 
 use crate::analysis::scene::SceneAnalysisError;
 use crate::analysis::scene_answer::SceneAnswer;
-use crate::core::budget::{Budget, Meter, Work, grouped};
+use crate::core::budget::{Budget, Meter, Work};
 use crate::core::scene::Scene;
 use crate::proof::verdict::Verdict;
 
@@ -75,18 +75,7 @@ fn at(scene: &Scene, rho: f64, meter: &Meter) -> Result<SceneAnswer, SceneAnalys
 /// periods.
 fn answer(scene: &Scene, meter: &Meter) -> Result<SceneAnswer, SceneAnalysisError> {
     let horizon = crate::core::scene::simulate::horizon(&scene.params::<f64>()) as u64;
-    let done = meter.used();
-    meter.charge(
-        || {
-            format!(
-                "the search, after {} control periods analysed, one more scene analysis of {} \
-                 periods,",
-                grouped(done),
-                grouped(horizon)
-            )
-        },
-        horizon,
-    )?;
+    meter.charge_analysis("scene analysis", horizon)?;
     SceneAnswer::of(scene)
 }
 

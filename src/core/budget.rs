@@ -175,6 +175,23 @@ impl Meter {
         }
     }
 
+    /// Counts one more `kind` of analysis (e.g. "scene analysis") of `horizon` periods for a
+    /// search, or the error naming what the search had analysed so far.
+    pub fn charge_analysis(&self, kind: &str, horizon: u64) -> Result<(), OverBudget> {
+        let done = self.used();
+        self.charge(
+            || {
+                format!(
+                    "the search, after {} control periods analysed, one more {kind} of {} \
+                     periods,",
+                    grouped(done),
+                    grouped(horizon)
+                )
+            },
+            horizon,
+        )
+    }
+
     /// The work counted so far.
     pub fn used(&self) -> u64 {
         self.used.load(Ordering::Relaxed)
