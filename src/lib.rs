@@ -37,6 +37,7 @@
 //!   certificate format and [`check`] — no solver;
 //! - `analysis` (feature `solver`, on by default): Clarabel, witnesses, radius, sweeps,
 //!   reports;
+//! - `cluster` (feature `solver`): sweeps as Slurm array jobs;
 //! - [`monitor`]: premise checks over live traces — no solver;
 //! - [`crosscheck`]: the exhaustive explorer and the UPPAAL export.
 //!
@@ -68,6 +69,8 @@
 
 #[cfg(feature = "solver")]
 pub mod analysis;
+#[cfg(feature = "solver")]
+pub mod cluster;
 pub mod core;
 pub mod crosscheck;
 pub mod monitor;

@@ -16,6 +16,7 @@ pub mod scene_radius;
 mod scene_witness;
 pub mod scene_worst;
 pub mod sweep;
+pub mod sweep_file;
 
 pub use analyse::*;
 pub use monte_carlo::{MonteCarlo, monte_carlo, random_speeds};

@@ -29,13 +29,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::scene_answer::SceneAnswer;
 use crate::analysis::scene_worst::SceneWorstCase;
+use crate::analysis::sweep_file::SweepFile;
 use crate::analysis::{self, Options, SpeedPattern, Verdict, WitnessPolicy};
 use crate::core::budget::{Budget, Meter, OverBudget, Work, grouped};
 pub use crate::core::grid::{CellInput, Grid, GridError};
 use crate::core::model::ProblemError;
 use crate::core::num::f64_at_most;
 use crate::core::scene::Scene;
+pub use crate::core::shard::Shard;
 use crate::core::simulate;
+use crate::core::sweep_provenance::SweepProvenance;
 
 /// The result of one cell.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -110,49 +113,6 @@ fn scene_cell(
         programs: a.programs(),
         worst: a.worst_case(),
     })
-}
-
-/// A shard of a sweep: cells `index, index + count, …`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// This shard's number, from 0.
-    pub index: usize,
-    /// Number of shards.
-    pub count: usize,
-}
-
-impl Shard {
-    /// The whole sweep.
-    pub const ALL: Shard = Shard { index: 0, count: 1 };
-
-    /// Parses `i/n` (0 ≤ i < n).
-    pub fn parse(s: &str) -> Result<Shard, String> {
-        let (i, n) = s
-            .split_once('/')
-            .ok_or_else(|| format!("shard {s:?}: expected i/n, e.g. 0/4"))?;
-        let index: usize = i
-            .trim()
-            .parse()
-            .map_err(|_| format!("shard {s:?}: {i:?} is not a number"))?;
-        let count: usize = n
-            .trim()
-            .parse()
-            .map_err(|_| format!("shard {s:?}: {n:?} is not a number"))?;
-        if count == 0 || index >= count {
-            return Err(format!("shard {s:?}: need 0 <= i < n"));
-        }
-        Ok(Shard { index, count })
-    }
-
-    /// Whether this shard owns a cell.
-    pub fn owns(&self, cell: usize) -> bool {
-        cell % self.count == self.index
-    }
-
-    /// How many of `len` cells this shard owns.
-    pub fn share(&self, len: usize) -> usize {
-        len.saturating_sub(self.index).div_ceil(self.count)
-    }
 }
 
 /// The budgets of a sweep: how many cells (of its shard), and how many control periods its
@@ -230,6 +190,21 @@ impl Grid {
         })
     }
 
+    /// Runs the cells of a shard in parallel, as [`Grid::run`], and returns them with the
+    /// provenance record of the run (what its output file starts with).
+    pub fn sweep(
+        &self,
+        shard: Shard,
+        runs: usize,
+        seed: u64,
+        budget: &SweepBudget,
+        tick: impl Fn() + Sync,
+    ) -> Result<SweepFile, SweepError> {
+        let provenance = SweepProvenance::of(self, shard, runs, seed)?;
+        let cells = self.run(shard, runs, seed, budget, tick)?;
+        Ok(SweepFile { provenance, cells })
+    }
+
     /// Runs the cells of a shard in parallel; `tick` is called once per finished cell.
     /// Results are in cell order. Work past `budget` is refused: too many cells before any
     /// is run, Monte Carlo runs up front when the base problem's horizon already exceeds
@@ -303,144 +278,4 @@ pub enum SweepError {
         /// Why.
         reason: String,
     },
-}
-
-/// Cell results as JSON Lines, one object per cell: its number, its axis values (as
-/// top-level dotted keys), then the results.
-pub fn to_jsonl(results: &[CellResult]) -> String {
-    let mut out = String::new();
-    for r in results {
-        let mut obj = serde_json::Map::new();
-        obj.insert("cell".into(), r.cell.into());
-        for (k, v) in &r.axes {
-            obj.insert(k.clone(), v.clone());
-        }
-        let rest = serde_json::to_value(r).expect("cell results serialise");
-        if let serde_json::Value::Object(fields) = rest {
-            for (k, v) in fields {
-                if k != "cell" && k != "axes" {
-                    obj.insert(k, v);
-                }
-            }
-        }
-        out.push_str(&serde_json::Value::Object(obj).to_string());
-        out.push('\n');
-    }
-    out
-}
-
-/// Reads cell results from JSON Lines written by [`to_jsonl`], given the grid's axis keys.
-pub fn from_jsonl(
-    text: &str,
-    axis_keys: &[String],
-    origin: &str,
-) -> Result<Vec<CellResult>, String> {
-    let mut out = Vec::new();
-    for (n, line) in text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty())
-    {
-        let mut obj: serde_json::Map<String, serde_json::Value> =
-            serde_json::from_str(line).map_err(|e| format!("{origin}:{}: {e}", n + 1))?;
-        let mut axes = serde_json::Map::new();
-        for k in axis_keys {
-            let v = obj
-                .remove(k)
-                .ok_or_else(|| format!("{origin}:{}: no value for axis {k:?}", n + 1))?;
-            axes.insert(k.clone(), v);
-        }
-        obj.insert("axes".into(), serde_json::Value::Object(axes));
-        let r: CellResult = serde_json::from_value(serde_json::Value::Object(obj))
-            .map_err(|e| format!("{origin}:{}: {e}", n + 1))?;
-        out.push(r);
-    }
-    Ok(out)
-}
-
-fn csv_field(v: &serde_json::Value) -> String {
-    match v {
-        serde_json::Value::Null => String::new(),
-        serde_json::Value::String(s) => s.clone(),
-        other => other.to_string(),
-    }
-}
-
-/// Cell results as CSV with a header: cell, the axes, then the results.
-pub fn to_csv(results: &[CellResult], axis_keys: &[String]) -> String {
-    let mut out = String::from("cell");
-    for k in axis_keys {
-        out.push(',');
-        out.push_str(k);
-    }
-    out.push_str(",verdict,min_separation,never_stops,lower_bound,collisions,runs,simulated_min_separation,pieces,programs");
-    // Scene cells add their worst case; single-obstacle CSV keeps its columns.
-    let scene = results.iter().any(|r| r.worst.is_some());
-    if scene {
-        out.push_str(",worst_obstacle,worst_lane,worst_cause");
-    }
-    out.push('\n');
-    for r in results {
-        out.push_str(&r.cell.to_string());
-        for k in axis_keys {
-            out.push(',');
-            out.push_str(&r.axes.get(k).map(csv_field).unwrap_or_default());
-        }
-        let opt = |x: Option<f64>| x.map(|v| v.to_string()).unwrap_or_default();
-        out.push_str(&format!(
-            ",{},{},{},{},{},{},{},{},{}",
-            r.verdict.as_str(),
-            opt(r.min_separation),
-            r.never_stops,
-            opt(r.lower_bound),
-            r.collisions.map(|c| c.to_string()).unwrap_or_default(),
-            r.runs.map(|c| c.to_string()).unwrap_or_default(),
-            opt(r.simulated_min_separation),
-            r.pieces,
-            r.programs
-        ));
-        if scene {
-            if let Some(w) = &r.worst {
-                out.push_str(&format!(
-                    ",{},{},{}",
-                    csv_quoted(&w.name),
-                    w.lane,
-                    csv_quoted(&w.cause.tag())
-                ));
-            } else {
-                out.push_str(",,,");
-            }
-        }
-        out.push('\n');
-    }
-    out
-}
-
-/// A CSV field, quoted (quotes doubled) when it holds a comma, a quote or a line break.
-fn csv_quoted(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
-/// Merges shard results: sorted by cell, every cell of the grid exactly once.
-pub fn merge(grid: &Grid, parts: Vec<Vec<CellResult>>) -> Result<Vec<CellResult>, String> {
-    let mut all: Vec<CellResult> = parts.into_iter().flatten().collect();
-    all.sort_by_key(|r| r.cell);
-    let n = grid.len();
-    for (i, r) in all.iter().enumerate() {
-        if r.cell != i {
-            return Err(if r.cell < i {
-                format!("cell {} appears twice", r.cell)
-            } else {
-                format!("cell {i} is missing (of {n})")
-            });
-        }
-    }
-    if all.len() != n {
-        return Err(format!("{} of {n} cells present", all.len()));
-    }
-    Ok(all)
 }

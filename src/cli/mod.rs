@@ -21,6 +21,7 @@ mod export_uppaal;
 mod input;
 mod interrupt;
 mod max_speed;
+mod merge;
 mod monitor;
 mod output;
 mod radius;
@@ -31,6 +32,7 @@ mod scene_simulate;
 mod search_summary;
 mod simulate;
 mod sweep;
+mod sweep_slurm;
 
 use exit::Exit;
 use output::Output;
@@ -62,6 +64,8 @@ enum Command {
     Region(region::RegionArgs),
     /// Analyse a grid of problems in parallel (JSON Lines + CSV into --out).
     Sweep(sweep::SweepArgs),
+    /// Merge a sweep's shards into the whole sweep's output (refusing stale or missing shards).
+    Merge(merge::MergeArgs),
     /// Regenerate reports (Markdown + SVG) from grids, or merge sweep shards into them.
     Report(report::ReportArgs),
     /// Check live traces against a certificate's premises (exit 0 held, 1 violated, 2 unusable certificate or I/O error).
@@ -101,6 +105,7 @@ fn run(command: Command, out: &mut Output) -> anyhow::Result<Exit> {
         Command::MaxSpeed(args) => max_speed::run(args, out),
         Command::Region(args) => region::run(args, out),
         Command::Sweep(args) => sweep::run(args, out),
+        Command::Merge(args) => merge::run(args, out),
         Command::Report(args) => report::run(args, out),
         Command::Monitor(args) => monitor::run(args, out),
         Command::Explore(args) => explore::run(args, out),

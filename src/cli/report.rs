@@ -8,20 +8,23 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 
 use safereach::analysis::report;
-use safereach::analysis::sweep::{self, CellResult, Grid, Shard, SweepBudget};
-use safereach::core::text_file;
+use safereach::analysis::sweep::{Grid, Shard, SweepBudget};
+use safereach::analysis::sweep_file::SweepFile;
 
 use super::exit::Exit;
+use super::merge::merged_results;
 use super::output::{Output, create_dir, write_file};
-use super::sweep::{counts, keys, run_grid};
+use super::sweep::{counts, run_grid, write_sweep};
 
 /// Arguments of `safereach report`.
 #[derive(clap::Args)]
 pub struct ReportArgs {
     /// Grid files (default: every `problems/*grid*.toml`).
     grids: Vec<PathBuf>,
-    /// Merge sweep results (and shards) from these directories instead of sweeping.
-    #[arg(long = "from", value_name = "DIR")]
+    /// Report sweep results (whole, or shards merged) from these directories or files
+    /// instead of sweeping; repeatable, or several after one --from. Results of another
+    /// grid, base problem or version are refused.
+    #[arg(long = "from", value_name = "DIR|FILE", num_args = 1..)]
     from: Vec<PathBuf>,
     /// Output directory.
     #[arg(long, default_value = "reports")]
@@ -50,15 +53,15 @@ pub fn run(args: ReportArgs, out: &mut Output) -> Result<Exit> {
                 &SweepBudget::default(),
             )?
         } else {
-            merged(&grid, &args.from)?
+            merged_results(&grid, &args.from)?
         };
         let md = write_report(&grid, &results, &args.out)?;
         writeln!(
             out,
             "{}: {} cells ({}); wrote {}",
             grid.name,
-            results.len(),
-            counts(&results),
+            results.cells.len(),
+            counts(&results.cells),
             md.display()
         )?;
     }
@@ -84,7 +87,8 @@ fn shipped_grids() -> Result<Vec<PathBuf>> {
 
 /// Writes the grid's report (Markdown, figures, JSON Lines, CSV) into `dir`; returns the
 /// Markdown file's path.
-fn write_report(grid: &Grid, results: &[CellResult], dir: &Path) -> Result<PathBuf> {
+fn write_report(grid: &Grid, sweep: &SweepFile, dir: &Path) -> Result<PathBuf> {
+    let results = &sweep.cells;
     let curve = report::radius_curve(grid).map_err(anyhow::Error::msg)?;
     let map = report::certified_map(grid).map_err(anyhow::Error::msg)?;
     let rep = report::grid_report(grid, results, &curve, map.as_ref());
@@ -93,48 +97,6 @@ fn write_report(grid: &Grid, results: &[CellResult], dir: &Path) -> Result<PathB
     for (name, svg) in &rep.figures {
         write_file(&dir.join(name), svg.as_bytes())?;
     }
-    write_file(
-        &dir.join(format!("{}.jsonl", grid.name)),
-        sweep::to_jsonl(results).as_bytes(),
-    )?;
-    write_file(
-        &dir.join(format!("{}.csv", grid.name)),
-        sweep::to_csv(results, &keys(grid)).as_bytes(),
-    )?;
+    write_sweep(sweep, dir)?;
     Ok(md)
-}
-
-/// Results for a grid merged from the `--from` directories (whole sweeps or shards).
-fn merged(grid: &Grid, dirs: &[PathBuf]) -> Result<Vec<CellResult>> {
-    let keys = keys(grid);
-    let mut parts = Vec::new();
-    for dir in dirs {
-        let entries =
-            std::fs::read_dir(dir).with_context(|| format!("reading {}", dir.display()))?;
-        let mut files: Vec<PathBuf> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                let name = p
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                name == format!("{}.jsonl", grid.name)
-                    || (name.starts_with(&format!("{}.shard-", grid.name))
-                        && name.ends_with(".jsonl"))
-            })
-            .collect();
-        files.sort();
-        for f in files {
-            let text = text_file::read_text(&f, text_file::MAX_CERTIFICATE_BYTES)
-                .with_context(|| format!("reading {}", f.display()))?;
-            parts.push(
-                sweep::from_jsonl(&text, &keys, &f.display().to_string())
-                    .map_err(anyhow::Error::msg)?,
-            );
-        }
-    }
-    if parts.is_empty() {
-        bail!("no results for grid {} in {:?}", grid.name, dirs);
-    }
-    sweep::merge(grid, parts).map_err(|e| anyhow::anyhow!("grid {}: {e}", grid.name))
 }

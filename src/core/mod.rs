@@ -11,6 +11,8 @@ pub mod parameter;
 pub mod rational;
 pub mod scene;
 pub mod semantics;
+pub mod shard;
 pub mod show;
 pub mod simulate;
+pub mod sweep_provenance;
 pub mod text_file;

@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use safereach::analysis::scene::analyse_scene;
-use safereach::analysis::sweep::{self, Grid, Shard, SweepBudget};
+use safereach::analysis::sweep::{Grid, Shard, SweepBudget};
+use safereach::analysis::sweep_file::{self, SweepFile};
 use safereach::analysis::{Verdict, analyse};
 use safereach::core::num::f64_at_most;
 
@@ -68,7 +69,8 @@ fn every_scene_cell_equals_a_scene_analysis() {
         .run(Shard::ALL, 10, 3, &SweepBudget::default(), || {})
         .expect("sweeps");
     for r in &results {
-        let sweep::CellInput::Scene(scene) = grid.input(r.cell).expect("cell") else {
+        let safereach::analysis::sweep::CellInput::Scene(scene) = grid.input(r.cell).expect("cell")
+        else {
             panic!("a scene grid's cells are scenes");
         };
         let w = r.axes["obstacle.1.max_speed"].as_f64().unwrap();
@@ -83,52 +85,164 @@ fn every_scene_cell_equals_a_scene_analysis() {
     }
 }
 
+fn shard_outputs(grid: &Grid, count: usize, runs: usize, seed: u64) -> Vec<(String, SweepFile)> {
+    (0..count)
+        .map(|index| {
+            let f = grid
+                .sweep(
+                    Shard { index, count },
+                    runs,
+                    seed,
+                    &SweepBudget::default(),
+                    || {},
+                )
+                .expect("shard sweeps");
+            (format!("shard-{index}"), f)
+        })
+        .collect()
+}
+
 #[test]
 fn shards_merged_equal_the_whole_sweep() {
     let grid = seed_grid();
     let whole = grid
-        .run(Shard::ALL, 20, 5, &SweepBudget::default(), || {})
+        .sweep(Shard::ALL, 20, 5, &SweepBudget::default(), || {})
         .expect("sweeps");
-    let parts: Vec<_> = (0..3)
-        .map(|i| {
-            grid.run(
-                Shard { index: i, count: 3 },
-                20,
-                5,
-                &SweepBudget::default(),
-                || {},
-            )
-            .expect("shard sweeps")
-        })
-        .collect();
-    assert!(parts.iter().all(|p| !p.is_empty() && p.len() < whole.len()));
-    let merged = sweep::merge(&grid, parts.clone()).expect("merges");
+    let parts = shard_outputs(&grid, 3, 20, 5);
+    assert!(
+        parts
+            .iter()
+            .all(|(_, p)| !p.cells.is_empty() && p.cells.len() < whole.cells.len())
+    );
+    let merged = sweep_file::merge(&grid, parts.clone()).expect("merges");
     assert_eq!(merged, whole);
-    // A missing shard or a duplicated one is refused.
-    assert!(sweep::merge(&grid, parts[..2].to_vec()).is_err());
+    // Written out, the merge is the unsharded sweep's output byte for byte.
+    assert_eq!(merged.to_jsonl(), whole.to_jsonl());
+    assert_eq!(merged.to_csv(), whole.to_csv());
+}
+
+/// Every way a set of outputs can fail to be the grid's whole sweep is refused, naming the
+/// file and what differs.
+#[test]
+fn merges_refuse_missing_duplicated_foreign_and_mixed_outputs() {
+    let grid = seed_grid();
+    let parts = shard_outputs(&grid, 3, 20, 5);
+    let refused = |parts: Vec<(String, SweepFile)>| sweep_file::merge(&grid, parts).unwrap_err();
+    let e = refused(parts[..2].to_vec());
+    assert!(e.contains("shard 2/3") && e.contains("missing"), "{e}");
     let mut twice = parts.clone();
-    twice.push(parts[0].clone());
-    assert!(sweep::merge(&grid, twice).is_err());
+    twice.push(("again".into(), parts[0].1.clone()));
+    let e = refused(twice);
+    assert!(e.contains("again and shard-0 are both shard 0/3"), "{e}");
+    // Another sharding, other Monte Carlo runs, a cell dropped, a cell of another shard.
+    let mut mixed = parts.clone();
+    mixed[2] = shard_outputs(&grid, 4, 20, 5).remove(2);
+    assert!(refused(mixed).contains("different shardings"));
+    let mut other_runs = parts.clone();
+    other_runs[1] = shard_outputs(&grid, 3, 10, 5).remove(1);
+    assert!(refused(other_runs).contains("Monte Carlo runs"));
+    let mut dropped = parts.clone();
+    dropped[1].1.cells.remove(2);
+    let e = refused(dropped);
+    assert!(
+        e.starts_with("shard-1: cell") && e.contains("missing"),
+        "{e}"
+    );
+    let mut foreign = parts.clone();
+    let stray = foreign[0].1.cells[0].clone();
+    foreign[1].1.cells.push(stray);
+    assert!(refused(foreign).starts_with("shard-1: cell 0"));
+    let mut edited = parts.clone();
+    edited[0].1.cells[1]
+        .axes
+        .insert("controller.reaction_radius".into(), 9.0.into());
+    assert!(refused(edited).contains("axis values are not the grid's"));
+    // Another version wrote it.
+    let mut old = parts.clone();
+    old[2].1.provenance.version = "0.0.1".into();
+    let e = refused(old);
+    assert!(
+        e.starts_with("shard-2: ") && e.contains("safereach 0.0.1"),
+        "{e}"
+    );
+}
+
+/// The stale cases: results merged against a grid whose axes changed, or whose base
+/// problem changed (braking 0.05 → 0.02 turns cell 2 from certified into refuted), are
+/// refused with what changed.
+#[test]
+fn outputs_of_another_grid_or_base_problem_are_refused() {
+    let grid = seed_grid();
+    let parts = shard_outputs(&grid, 2, 0, 0);
+    let dir = tmp();
+    std::fs::copy(
+        root().join("problems/seed.toml"),
+        dir.path().join("seed.toml"),
+    )
+    .unwrap();
+    let grid_text = std::fs::read_to_string(root().join("problems/seed-grid.toml")).unwrap();
+    let at = dir.path().join("seed-grid.toml");
+    let other_axes = Grid::from_toml_str(&grid_text.replace("0.25, 0.3]", "0.25, 0.5]"), &at)
+        .expect("the edited grid loads");
+    let e = sweep_file::merge(&other_axes, parts.clone()).unwrap_err();
+    assert!(
+        e.contains(
+            "axis environment.obstacle_speed was [0.15,0.2,0.25,0.3], is now [0.15,0.2,0.25,0.5]"
+        ),
+        "{e}"
+    );
+    let base = std::fs::read_to_string(root().join("problems/seed.toml")).unwrap();
+    assert!(base.contains("braking = 0.05"));
+    std::fs::write(
+        dir.path().join("seed.toml"),
+        base.replace("braking = 0.05", "braking = 0.02"),
+    )
+    .unwrap();
+    let other_base = Grid::from_toml_str(&grid_text, &at).unwrap();
+    let e = sweep_file::merge(&other_base, parts.clone()).unwrap_err();
+    assert!(
+        e.contains("base problem has changed since: robot.braking was 0.05, is now 0.02"),
+        "{e}"
+    );
+    // ...and it matters: cell 2 was certified, and is refuted now.
+    assert_eq!(parts[0].1.cells[1].cell, 2);
+    assert_eq!(parts[0].1.cells[1].verdict, Verdict::Certified);
+    let now = other_base
+        .sweep(Shard::ALL, 0, 0, &SweepBudget::default(), || {})
+        .unwrap();
+    assert_eq!(now.cells[2].verdict, Verdict::Refuted);
+    // A comment added to the base changes nothing that was computed: still accepted.
+    std::fs::write(dir.path().join("seed.toml"), format!("# a note\n{base}")).unwrap();
+    let commented = Grid::from_toml_str(&grid_text, &at).unwrap();
+    assert!(sweep_file::merge(&commented, parts).is_ok());
 }
 
 #[test]
 fn jsonl_round_trips_and_csv_has_one_row_per_cell() {
     let grid = seed_grid();
-    let results = grid
-        .run(Shard::ALL, 10, 1, &SweepBudget::default(), || {})
+    let file = grid
+        .sweep(Shard::ALL, 10, 1, &SweepBudget::default(), || {})
         .expect("sweeps");
-    let keys: Vec<String> = grid.axes.iter().map(|(k, _)| k.clone()).collect();
-    let text = sweep::to_jsonl(&results);
+    let text = file.to_jsonl();
     assert_eq!(
-        sweep::from_jsonl(&text, &keys, "test").expect("reads back"),
-        results
+        SweepFile::from_jsonl(&text, "test").expect("reads back"),
+        file
     );
-    let first: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    let mut lines = text.lines();
+    let head: serde_json::Value = serde_json::from_str(lines.next().unwrap()).unwrap();
+    assert_eq!(head["sweep"]["grid"], "seed-grid");
+    assert_eq!(head["sweep"]["cells"], 16);
+    assert_eq!(head["sweep"]["runs"], 10);
+    let first: serde_json::Value = serde_json::from_str(lines.next().unwrap()).unwrap();
     assert_eq!(first["environment.obstacle_speed"], 0.15);
     assert!(first["verdict"].is_string());
-    let csv = sweep::to_csv(&results, &keys);
-    assert_eq!(csv.lines().count(), results.len() + 1);
+    let csv = file.to_csv();
+    assert_eq!(csv.lines().count(), file.cells.len() + 1);
     assert!(csv.starts_with("cell,controller.assumed_obstacle_speed,environment.obstacle_speed,controller.reaction_radius,verdict"));
+    // Without its provenance line, an output is not read.
+    let headless: String = text.lines().skip(1).map(|l| format!("{l}\n")).collect();
+    let e = SweepFile::from_jsonl(&headless, "old.jsonl").unwrap_err();
+    assert!(e.starts_with("old.jsonl:1: no provenance record"), "{e}");
 }
 
 #[test]

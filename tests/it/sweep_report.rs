@@ -317,9 +317,10 @@ fn scene_grid_without_two_axes_says_why_it_has_no_figures() {
 #[test]
 fn scene_worst_cases_round_trip_through_jsonl_and_csv() {
     use safereach::analysis::sweep::{self, Grid, Shard, SweepBudget};
+    use safereach::analysis::sweep_file::SweepFile;
     let grid = Grid::load(&root().join("problems/scene-oncoming-grid.toml")).unwrap();
-    let results: Vec<_> = grid
-        .run(
+    let file = grid
+        .sweep(
             Shard { index: 0, count: 8 },
             0,
             0,
@@ -327,16 +328,16 @@ fn scene_worst_cases_round_trip_through_jsonl_and_csv() {
             || {},
         )
         .unwrap();
-    let keys: Vec<String> = grid.axes.iter().map(|(k, _)| k.clone()).collect();
-    let back = sweep::from_jsonl(&sweep::to_jsonl(&results), &keys, "test").unwrap();
-    assert_eq!(back, results);
-    let csv = sweep::to_csv(&results, &keys);
+    let back = SweepFile::from_jsonl(&file.to_jsonl(), "test").unwrap();
+    assert_eq!(back, file);
+    let csv = file.to_csv();
     assert!(
         csv.lines()
             .next()
             .unwrap()
             .ends_with(",worst_obstacle,worst_lane,worst_cause")
     );
+    let results = file.cells;
     for r in &results {
         let sweep::CellInput::Scene(scene) = grid.input(r.cell).unwrap() else {
             panic!("scene cells");
