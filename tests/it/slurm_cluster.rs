@@ -4,6 +4,7 @@
 //! cancels the merge job visibly. The cluster is stopped afterwards, also when the test
 //! fails. `#[ignore]`d (it needs root and installs packages); `.ci/run` runs it.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -135,7 +136,11 @@ fn submit(dir: &Path, out: &str, extra: &[&str]) -> (String, String) {
 #[ignore = "starts a Slurm cluster (root, installs slurm-wlm); .ci/run runs it"]
 fn a_slurm_array_sweep_merges_to_the_unsharded_sweep() {
     if let Some(why) = cannot_run() {
-        println!("skipped: a_slurm_array_sweep_merges_to_the_unsharded_sweep: {why}");
+        // Straight to stderr: the harness captures println!, and the skip must be seen.
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: a_slurm_array_sweep_merges_to_the_unsharded_sweep: {why}"
+        );
         return;
     }
     let _cluster = Cluster::up();
