@@ -230,7 +230,18 @@ fn report_refuses_stale_results_and_reads_several_directories() {
         !dir.path().join("rep/seed-grid.md").exists(),
         "no report of stale results"
     );
+    // An unsharded output is held to the same record.
+    plain(dir.path())
+        .args(["sweep", "seed-grid.toml", "--out", "W"])
+        .assert()
+        .success();
     std::fs::write(dir.path().join("seed.toml"), &base).unwrap();
+    report(&["--from", "W"])
+        .code(2)
+        .stderr(predicates::str::contains(
+            "W/seed-grid.jsonl: not a result of seed-grid.toml as it is now: the base problem has \
+         changed since: robot.braking was 0.02, is now 0.05",
+        ));
     report(&["--from", "A", "B"]).success();
     let one_flag = std::fs::read(dir.path().join("rep/seed-grid.md")).unwrap();
     report(&["--from", "A", "--from", "B"]).success();
