@@ -18,6 +18,7 @@ use crate::core::simulate;
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::schedule::{Decomposition, Piece};
 pub use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
+use crate::proof::witness_runs::mode_segments;
 use crate::proof::witness_schedule::replay_realises;
 
 /// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
@@ -505,14 +506,16 @@ fn replay_witness(
     let replay = simulate::replay_reacting_at(params, &speeds, aim, max_steps, false);
     replay_realises(params, &replay, &piece, shift).ok()?;
     speeds.truncate(replay.periods());
+    let steps = replay.trace();
     Some(Witness {
         piece,
         shift,
         margin,
+        robot_modes: mode_segments(&steps, speeds.len()),
         obstacle_speeds: speeds,
         collides: replay.collided(),
         separation: replay.rest_gap().as_ref().map(f64_at_most),
-        steps: replay.trace(),
+        steps,
     })
 }
 

@@ -30,8 +30,23 @@ fn proof(o: &PieceOutcome) -> Proof {
 }
 
 impl Certificate {
-    /// The certificate of an analysis.
+    /// The certificate of an analysis. Its witness is stored as runs (speed and mode
+    /// segments), without the per-period rows.
     pub fn from_analysis(a: &Analysis) -> Self {
+        Self::of_analysis(a, false)
+    }
+
+    /// The certificate of an analysis with its witness's per-period rows (`steps`) as well:
+    /// `certify --steps`. They grow with the horizon; `check` compares them with the replay.
+    pub fn from_analysis_with_steps(a: &Analysis) -> Self {
+        Self::of_analysis(a, true)
+    }
+
+    fn of_analysis(a: &Analysis, steps: bool) -> Self {
+        let mut witness = a.witness.clone();
+        if let Some(w) = witness.as_mut().filter(|_| !steps) {
+            w.steps = Vec::new();
+        }
         let proofs = a.outcomes.iter().map(proof).collect();
         let lower_bound = a.lower_bound.as_ref().map(f64_at_most);
         let bracket = Bracket::of(lower_bound, a.witness.as_ref().and_then(|w| w.separation));
@@ -45,7 +60,7 @@ impl Certificate {
             lower_bound,
             clearance: a.problem.robot.clearance,
             premises: premises(&a.problem),
-            witness: a.witness.clone(),
+            witness,
             problem: a.problem.clone(),
             pieces: a.outcomes.len(),
             programs_solved: a.programs_solved,

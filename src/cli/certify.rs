@@ -11,6 +11,7 @@ use anyhow::{Context, Result};
 use safereach::analysis;
 use safereach::core::semantics::Mode;
 use safereach::core::show::{down, up, value};
+use safereach::core::simulate::TraceRow;
 use safereach::proof::certificate::{self, Certificate, Premise};
 
 use super::exit::Exit;
@@ -32,6 +33,11 @@ pub struct CertifyArgs {
     /// Write the certificate to this file (atomically).
     #[arg(long)]
     pub(super) out: Option<PathBuf>,
+    /// Also store the witness's state at every control period (`witness.steps`); without
+    /// it the witness is its speed and mode segments, whose size does not grow with the
+    /// horizon. (Scene certificates always keep their rows.)
+    #[arg(long)]
+    steps: bool,
 }
 
 /// Runs `safereach certify`: exit 0 certified, 1 refuted, 3 inconclusive.
@@ -41,7 +47,11 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
         Input::Scene(scene) => return scene_certify::run(&scene, &args.out, args.json, out),
     };
     let analysis = analysis::analyse(&problem).context("analysis failed")?;
-    let cert = Certificate::from_analysis(&analysis);
+    let cert = if args.steps {
+        Certificate::from_analysis_with_steps(&analysis)
+    } else {
+        Certificate::from_analysis(&analysis)
+    };
     // Never print a verdict the exact checker would not accept.
     certificate::check(&cert)
         .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
@@ -52,7 +62,8 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
     if args.json {
         write!(out, "{text}")?;
     } else {
-        write!(out, "{}", summary(&cert))?;
+        let steps = analysis.witness.as_ref().map_or(&[][..], |w| &w.steps[..]);
+        write!(out, "{}", summary(&cert, steps))?;
     }
     Ok(cert.verdict.into())
 }
@@ -60,7 +71,7 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
 /// The human-readable answer: verdict, worst case, bound and premises. Bounds are shown
 /// rounded in their own direction, times and values without float noise
 /// ([`safereach::core::show`]).
-fn summary(cert: &Certificate) -> String {
+fn summary(cert: &Certificate, steps: &[TraceRow]) -> String {
     let mut s = format!("{}: {}\n", cert.problem.name, cert.verdict.as_str());
     let witness_sep = cert.witness.as_ref().and_then(|w| w.separation);
     s += &format!(
@@ -75,8 +86,8 @@ fn summary(cert: &Certificate) -> String {
     );
     s += &lower_bound_text(cert.lower_bound, cert.clearance);
     if let Some(w) = &cert.witness {
-        let brake = w.steps.iter().find(|r| r.robot_mode == Mode::Brake);
-        let last = w.steps.last();
+        let brake = steps.iter().find(|r| r.robot_mode == Mode::Brake);
+        let last = steps.last();
         let end = match (last, w.separation) {
             (Some(l), Some(r)) => format!(", ends at t = {} s with gap {} m", value(l.t), up(r, 9)),
             (Some(l), None) => format!(", ends at t = {} s still moving", value(l.t)),

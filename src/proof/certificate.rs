@@ -32,7 +32,7 @@ use crate::proof::verdict::{Verdict, Witness};
 pub use crate::proof::check::{CheckReport, Invalid, check};
 
 /// The format tag written into every certificate.
-pub const FORMAT: &str = "safereach-certificate/2";
+pub const FORMAT: &str = "safereach-certificate/3";
 
 /// One piece's proof.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -19,7 +19,7 @@ pub use crate::proof::certificate::Certificate;
 /// A certificate of either kind.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CertificateFile {
-    /// One obstacle in the robot's lane (`safereach-certificate/2`).
+    /// One obstacle in the robot's lane (`safereach-certificate/3`).
     Single(Box<Certificate>),
     /// A scene (`safereach-scene-certificate/2`).
     Scene(Box<SceneCertificate>),
@@ -30,6 +30,7 @@ pub enum CertificateFile {
 /// Format tags of earlier versions: their files lack fields today's check needs.
 const EARLIER_FORMATS: &[&str] = &[
     "safereach-certificate/1",
+    "safereach-certificate/2",
     "safereach-scene-certificate/1",
     "safereach-scene-search-certificate/1",
 ];
@@ -61,8 +62,8 @@ impl CertificateFile {
         let tag: Tag = from_json(text)?;
         if EARLIER_FORMATS.contains(&tag.format.as_str()) {
             return Err(<serde_json::Error as serde::de::Error>::custom(format!(
-                "its format {:?} was written by an earlier safereach, before certificates \
-                 pinned s*; certify the problem again",
+                "its format {:?} was written by an earlier safereach (before certificates \
+                 pinned s*, or stored witnesses period by period); certify the problem again",
                 tag.format
             )));
         }

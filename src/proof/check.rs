@@ -7,7 +7,8 @@ use crate::proof::certificate::{Certificate, FORMAT, Proof, premises};
 use crate::proof::program::ProofKind;
 use crate::proof::schedule::{Decomposition, Piece};
 use crate::proof::separation::{Stated, settle};
-use crate::proof::verdict::{TRACE_TOLERANCE, Verdict, Witness};
+use crate::proof::verdict::{Verdict, Witness, rows_match};
+use crate::proof::witness_runs::mode_segments;
 use crate::proof::witness_schedule::replay_realises;
 
 /// What `check` established.
@@ -213,17 +214,13 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
         return invalid("witness lists speeds past the end of its run");
     }
     let steps = replay.trace();
-    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
-    let same = steps.len() == w.steps.len()
-        && steps.iter().zip(&w.steps).all(|(a, b)| {
-            a.robot_mode == b.robot_mode
-                && close(a.t, b.t)
-                && close(a.robot_position, b.robot_position)
-                && close(a.robot_speed, b.robot_speed)
-                && close(a.obstacle_position, b.obstacle_position)
-                && close(a.obstacle_speed, b.obstacle_speed)
-                && close(a.gap, b.gap)
-        });
+    if mode_segments(&steps, replay.periods()) != w.robot_modes {
+        return invalid("witness robot modes differ from its exact replay");
+    }
+    // The per-period rows are optional (`certify --steps`); when present they must match.
+    let same = w.steps.is_empty()
+        || steps.len() == w.steps.len()
+            && steps.iter().zip(&w.steps).all(|(a, b)| rows_match(a, b));
     if !same {
         return invalid("witness trace differs from its exact replay");
     }

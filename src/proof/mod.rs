@@ -22,4 +22,5 @@ pub mod search_certificate;
 pub mod search_check;
 pub mod separation;
 pub mod verdict;
+pub mod witness_runs;
 pub mod witness_schedule;

@@ -25,7 +25,9 @@ use crate::proof::scene_certificate::{
 use crate::proof::scene_schedule::SceneDecomposition;
 use crate::proof::schedule::{Ending, Piece};
 use crate::proof::separation::{Stated, settle};
+#[cfg(doc)]
 use crate::proof::verdict::TRACE_TOLERANCE;
+use crate::proof::verdict::rows_match;
 use crate::proof::witness_schedule::{RunSchedule, realises};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
@@ -383,7 +385,6 @@ pub fn scene_witness_realises(
 /// Whether a witness's stated trace is its replay's: the same rows, lanes and modes, every
 /// number within [`TRACE_TOLERANCE`] (search and scene witnesses alike).
 pub(crate) fn same_scene_trace(replayed: &[SceneTraceRow], stated: &[SceneTraceRow]) -> bool {
-    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
     replayed.len() == stated.len()
         && replayed.iter().zip(stated).all(|(x, y)| {
             let (a, b) = (&x.row, &y.row);
@@ -391,12 +392,6 @@ pub(crate) fn same_scene_trace(replayed: &[SceneTraceRow], stated: &[SceneTraceR
                 && x.robot_lane == y.robot_lane
                 && x.leaving_lane == y.leaving_lane
                 && x.obstacle_lane == y.obstacle_lane
-                && a.robot_mode == b.robot_mode
-                && close(a.t, b.t)
-                && close(a.robot_position, b.robot_position)
-                && close(a.robot_speed, b.robot_speed)
-                && close(a.obstacle_position, b.obstacle_position)
-                && close(a.obstacle_speed, b.obstacle_speed)
-                && close(a.gap, b.gap)
+                && rows_match(a, b)
         })
 }

@@ -5,11 +5,26 @@ use serde::{Deserialize, Serialize};
 
 use crate::core::simulate::TraceRow;
 use crate::proof::schedule::Piece;
+use crate::proof::witness_runs::ModeSegment;
 
 /// A witness must replay to within this of its piece's optimum (m).
 pub const REPLAY_TOLERANCE: f64 = 1e-6;
 /// A witness's trace rows must match their exact replay to within this (m, s, m/s).
 pub const TRACE_TOLERANCE: f64 = 1e-9;
+
+/// Whether a stated trace row matches its exact replay's: modes equal, every number within
+/// [`TRACE_TOLERANCE`].
+pub fn rows_match(replayed: &TraceRow, stated: &TraceRow) -> bool {
+    let close = |a: f64, b: f64| (a - b).abs() <= TRACE_TOLERANCE;
+    let (a, b) = (replayed, stated);
+    a.robot_mode == b.robot_mode
+        && close(a.t, b.t)
+        && close(a.robot_position, b.robot_position)
+        && close(a.robot_speed, b.robot_speed)
+        && close(a.obstacle_position, b.obstacle_position)
+        && close(a.obstacle_speed, b.obstacle_speed)
+        && close(a.gap, b.gap)
+}
 
 /// The three-valued answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -44,13 +59,21 @@ pub struct Witness {
     pub shift: usize,
     /// Margin its strict rows were kept inside (m).
     pub margin: f64,
-    /// The obstacle's speed in each control period (after the last: W).
+    /// The obstacle's speed in each control period (after the last: W); stored in files as
+    /// constant-speed segments ([`crate::proof::witness_runs::SpeedSegment`]).
+    #[serde(with = "crate::proof::witness_runs::as_segments")]
     pub obstacle_speeds: Vec<f64>,
+    /// The robot's mode over the run, as segments of periods (`check` holds them to the
+    /// replay).
+    pub robot_modes: Vec<ModeSegment>,
     /// The replay collides.
     pub collides: bool,
     /// Gap when the robot came to rest (None: it never stopped before colliding).
     pub separation: Option<f64>,
-    /// One row at every period start plus the instant the robot came to rest.
+    /// One row at every period start plus the instant the robot came to rest: kept in
+    /// memory by the analyser, written to a file only when asked (`certify --steps`), since
+    /// it grows with the horizon. `check` compares it with the replay when present.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<TraceRow>,
 }
 

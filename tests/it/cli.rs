@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use predicates::prelude::*;
 use safereach::analysis::Verdict;
 use safereach::core::model::Problem;
-use safereach::proof::certificate::Certificate;
+use safereach::proof::certificate::{Certificate, check};
 use serde_json::Value;
 
 use crate::common::cli::{files, safereach, stdout};
@@ -68,7 +68,7 @@ fn certify_seed_is_certified() {
 #[test]
 fn certify_json_is_a_certificate_with_the_documented_fields() {
     let dir = tmp();
-    let (cert, value) = certify_json(dir.path(), &[seed_file().to_str().unwrap()], 0);
+    let (cert, value) = certify_json(dir.path(), &[seed_file().to_str().unwrap(), "--steps"], 0);
     assert_eq!(cert.verdict, Verdict::Certified);
     assert_eq!(value["verdict"], "certified");
 
@@ -221,7 +221,7 @@ fn refuted_problem_exits_1_and_its_witness_collides() {
         .code(1)
         .stdout(predicate::str::contains("refuted"))
         .stdout(predicate::str::contains("collides"));
-    let (cert, value) = certify_json(dir.path(), &[fast.to_str().unwrap()], 1);
+    let (cert, value) = certify_json(dir.path(), &[fast.to_str().unwrap(), "--steps"], 1);
     assert_eq!(cert.verdict, Verdict::Refuted);
     assert_eq!(value["verdict"], "refuted");
     let w = cert.witness.as_ref().expect("a witness");
@@ -627,7 +627,13 @@ fn simulate_replay_writes_the_worst_case_trace() {
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.iter().all(|r| r.len() == 7), "7 columns");
     let witness = cert.witness.as_ref().unwrap();
-    assert_eq!(rows.len(), witness.steps.len(), "one row per witness step");
+    let periods: usize = witness.robot_modes.iter().map(|m| m.length).sum();
+    assert_eq!(periods, witness.obstacle_speeds.len());
+    assert_eq!(
+        rows.len(),
+        periods + 1,
+        "one row per period of the witness, and its instant of rest"
+    );
     let num = |r: &[&str], i: usize| r[i].parse::<f64>().expect("a number");
     let last = rows.last().unwrap();
     assert_eq!(num(last, 2), 0.0, "the robot rests at the end: {last:?}");
@@ -859,4 +865,42 @@ fn simulated_traces_and_monitor_lines_have_times_without_noise() {
             "{t}"
         );
     }
+}
+
+/// A witness is stored as runs: at 100 Hz over 50,000 periods the seed's worst case is a few
+/// speed and mode segments, the certificate a few KB and `check` accepts it; `--steps` adds
+/// the per-period rows (one per period), which `check` then compares as well.
+#[test]
+fn a_long_horizon_keeps_the_certificate_small_unless_steps_are_asked_for() {
+    let dir = tmp();
+    let sets = [
+        "--set",
+        "environment.initial_gap=100",
+        "--set",
+        "robot.control_period=0.01",
+    ];
+    let mut args = vec![seed_file().to_str().unwrap().to_string()];
+    args.extend(sets.iter().map(|s| s.to_string()));
+    let as_str: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (cert, value) = certify_json(dir.path(), &as_str, 0);
+    let text = value.to_string();
+    assert!(text.len() < 50_000, "{} bytes", text.len());
+    let w = cert.witness.as_ref().expect("a witness");
+    assert!(
+        w.obstacle_speeds.len() > 40_000,
+        "{}",
+        w.obstacle_speeds.len()
+    );
+    let segments = value["witness"]["obstacle_speeds"].as_array().unwrap();
+    assert!(segments.len() <= 5, "{segments:?}");
+    assert!(w.steps.is_empty() && value["witness"].get("steps").is_none());
+    assert_eq!(check(&cert).expect("checks").verdict, Verdict::Certified);
+    let mut with = as_str.clone();
+    with.push("--steps");
+    let (full, _) = certify_json(dir.path(), &with, 0);
+    let fw = full.witness.as_ref().unwrap();
+    assert_eq!(fw.steps.len(), fw.obstacle_speeds.len() + 1);
+    assert_eq!(fw.obstacle_speeds, w.obstacle_speeds);
+    assert_eq!(fw.robot_modes, w.robot_modes);
+    assert_eq!(check(&full).expect("checks").verdict, Verdict::Certified);
 }

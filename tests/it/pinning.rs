@@ -332,6 +332,8 @@ fn unknown_fields_are_refused_anywhere_in_a_certificate() {
                 &["witness"],
                 &["witness", "piece"],
                 &["witness", "steps", "0"],
+                &["witness", "obstacle_speeds", "0"],
+                &["witness", "robot_modes", "0"],
                 &["proofs", "0"],
                 &["proofs", "0", "piece"],
                 &["premises", "0"],

@@ -21,6 +21,9 @@ pub struct Fixture {
     pub problem: &'static str,
     pub sets: &'static [&'static str],
     pub kind: Kind,
+    /// `certify --steps`: the witness keeps its per-period rows (the seed's does, so the
+    /// lean tests check both forms and the monitor tests replay its rows).
+    pub steps: bool,
 }
 
 /// What a fixture is, and so the command that writes it.
@@ -45,12 +48,14 @@ pub const FIXTURES: &[Fixture] = &[
         problem: "seed.toml",
         sets: &[],
         kind: Kind::Certificate(Verdict::Certified),
+        steps: true,
     },
     Fixture {
         file: "fast-obstacle.cert.json",
         problem: "fast-obstacle.toml",
         sets: &[],
         kind: Kind::Certificate(Verdict::Refuted),
+        steps: false,
     },
     Fixture {
         file: "boundary.cert.json",
@@ -61,30 +66,35 @@ pub const FIXTURES: &[Fixture] = &[
             "controller.reaction_radius=1.035",
         ],
         kind: Kind::Certificate(Verdict::Inconclusive),
+        steps: false,
     },
     Fixture {
         file: "seed.run.jsonl",
         problem: "seed.toml",
         sets: &[],
         kind: Kind::Trace { runs: 200 },
+        steps: false,
     },
     Fixture {
         file: "seed-w0.25.run.csv",
         problem: "seed.toml",
         sets: &["environment.obstacle_speed=0.25"],
         kind: Kind::Trace { runs: 200 },
+        steps: false,
     },
     Fixture {
         file: "scene-destination.cert.json",
         problem: "scene-destination.toml",
         sets: &[],
         kind: Kind::SceneCertificate(Verdict::Certified),
+        steps: false,
     },
     Fixture {
         file: "scene-short-sensing.cert.json",
         problem: "scene-short-sensing.toml",
         sets: &[],
         kind: Kind::SceneCertificate(Verdict::Refuted),
+        steps: false,
     },
 ];
 
@@ -113,6 +123,9 @@ impl Fixture {
             args.extend(["--set".into(), set.to_string()]);
         }
         args.extend(tail);
+        if self.steps {
+            args.push("--steps".into());
+        }
         args
     }
 

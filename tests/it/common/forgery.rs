@@ -279,6 +279,25 @@ pub const FORGERIES: &[(&str, Edit)] = &[
         w.obstacle_speeds.pop()?;
         Some(())
     }),
+    ("a robot mode segment moved by one period", |c| {
+        let w = c.witness.as_mut()?;
+        let (first, rest) = w.robot_modes.split_first_mut()?;
+        let second = rest.first_mut()?;
+        first.length += 1;
+        second.start += 1;
+        second.length = second.length.checked_sub(1).filter(|&n| n > 0)?;
+        Some(())
+    }),
+    ("a robot mode segment's mode changed", |c| {
+        let w = c.witness.as_mut()?;
+        let last = w.robot_modes.last_mut()?;
+        last.mode = if last.mode == safereach::core::semantics::Mode::Brake {
+            safereach::core::semantics::Mode::Drive
+        } else {
+            safereach::core::semantics::Mode::Brake
+        };
+        Some(())
+    }),
     ("the witness's collision flag flipped", |c| {
         let w = c.witness.as_mut()?;
         w.collides = !w.collides;
