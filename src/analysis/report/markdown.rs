@@ -1,10 +1,11 @@
-//! The Markdown page of a sweep: header and axes, the figures (with the certified map of the
+//! The Markdown page of a sweep: header, axes and the base's values, the figures (with the certified map of the
 //! (W, ρ) plane where the grid spans one), the table of cells, the safe-radius table, a
 //! scene's worst cases and the findings, in that order.
 
 use std::fmt::Write as _;
 
 use super::axes::label;
+use super::base_values::write_base_values;
 use super::cells::{axis_value, collisions_per_runs, fmt_opt, separation};
 use super::figures::{slice_lines, write_figures};
 use super::findings::{findings, scene_worst_cases};
@@ -106,7 +107,7 @@ fn file_name(path: &std::path::Path) -> String {
         .unwrap_or_default()
 }
 
-/// Title, provenance line and the list of axes.
+/// Title, provenance line, the list of axes and the base's values.
 fn write_header(md: &mut String, grid: &Grid, cells: usize) {
     let _ = writeln!(md, "# Sweep `{}`\n", grid.name);
     let runs = if grid.runs > 0 {
@@ -130,6 +131,7 @@ fn write_header(md: &mut String, grid: &Grid, cells: usize) {
         let vals: Vec<String> = v.iter().map(|x| x.to_string()).collect();
         let _ = writeln!(md, "- `{k}`: {}", vals.join(", "));
     }
+    write_base_values(md, grid, &file_name(&grid.base_path));
 }
 
 /// The speed the controller assumes: the cells' axis value, else the base problem's or

@@ -7,15 +7,17 @@
 //! byte-for-byte reproducible (CI regenerates `reports/` and compares it with what is
 //! committed) and needs no font files at build or run time.
 //!
-//! One idea per file: `markdown` assembles the page, `findings` checks the paper's claims
-//! and names the worst cases, `figures` draws one figure per slice of the axes a figure
-//! does not span (so nothing drawn mixes slices), `heat_map` and `curve_plot` draw them
-//! with the small writer in `svg` and the verdict colours in `palette`; `axes` labels the
-//! axes, picks a heat map's two and cuts a grid into slices, `curve` computes ρ*(W) per
-//! slice; `cells` reads and prints one cell's values for all of them; `certified_map` maps
-//! the (W, ρ) plane with region certificates and `region_plot` draws a region map.
+//! One idea per file: `markdown` assembles the page, `base_values` lists what the cells
+//! hold fixed, `findings` checks the paper's claims and names the worst cases, `figures`
+//! draws one figure per slice of the axes a figure does not span (so nothing drawn mixes
+//! slices), `heat_map` and `curve_plot` draw them with the small writer in `svg` and the
+//! verdict colours in `palette`; `axes` labels the axes, picks a heat map's two and cuts a
+//! grid into slices, `curve` computes ρ*(W) per slice; `cells` reads and prints one cell's
+//! values for all of them; `certified_map` maps the (W, ρ) plane with region certificates
+//! and `region_plot` draws a region map.
 
 mod axes;
+mod base_values;
 mod cells;
 mod certified_map;
 mod curve;
