@@ -188,3 +188,28 @@ fn a_grid_with_one_numeric_axis_says_why_it_has_no_heat_map() {
         .collect();
     assert!(svgs.is_empty(), "{svgs:?}");
 }
+
+/// More slices than a report draws: the first 12 heat maps and curves are drawn and
+/// tabled, and the page says the grid has 13.
+#[test]
+fn a_grid_with_more_slices_than_drawn_says_so() {
+    let dir = tmp();
+    let latencies: Vec<String> = (0..13).map(|l| l.to_string()).collect();
+    let grid = format!(
+        "base = \"seed.toml\"\n[axes]\n\"environment.obstacle_speed\" = [0.05]\n\
+         \"controller.reaction_radius\" = [1.0, 1.4]\n\"robot.latency\" = [{}]\n",
+        latencies.join(", ")
+    );
+    let (md, out) = report(dir.path(), "many", &grid);
+    let names = files(&out);
+    for k in 1..=12 {
+        for kind in ["verdicts", "radius"] {
+            assert!(names.contains(&format!("many-{kind}-{k}.svg")), "{names:?}");
+        }
+    }
+    assert!(!names.iter().any(|n| n.contains("-13.svg")), "{names:?}");
+    let drawn = "The grid has 13 slices across its other axes; the first 12 are drawn";
+    assert_eq!(md.matches(drawn).count(), 2, "heat maps and curves: {md}");
+    assert!(md.contains("the first 12 are computed"), "{md}");
+    assert_eq!(md.matches("\nSlice: latency L = ").count(), 12, "{md}");
+}
