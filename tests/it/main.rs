@@ -29,6 +29,7 @@ mod noise;
 mod pinning;
 mod radius;
 mod region;
+mod report_slices;
 mod scene_analysis;
 mod scene_cli;
 mod scene_explore;

@@ -15,25 +15,25 @@ use crate::common::tmp;
 
 /// A `<text>` element: its position, attributes and body (unescaped).
 #[derive(Debug)]
-struct Text {
-    x: f64,
-    y: f64,
-    attrs: String,
-    body: String,
+pub(crate) struct Text {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) attrs: String,
+    pub(crate) body: String,
 }
 
 /// A `<rect>` element with a position.
 #[derive(Debug)]
-struct Rect {
-    x: f64,
-    y: f64,
-    width: f64,
-    height: f64,
-    fill: String,
+pub(crate) struct Rect {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) width: f64,
+    pub(crate) height: f64,
+    pub(crate) fill: String,
 }
 
 /// The value of attribute `name` in an element's text.
-fn attr(element: &str, name: &str) -> Option<String> {
+pub(crate) fn attr(element: &str, name: &str) -> Option<String> {
     let start = element.find(&format!(" {name}=\""))? + name.len() + 3;
     let len = element[start..].find('"')?;
     Some(element[start..start + len].to_string())
@@ -41,7 +41,7 @@ fn attr(element: &str, name: &str) -> Option<String> {
 
 /// The texts and positioned rectangles of an SVG (one element per line, as the report
 /// writes it).
-fn parse(svg: &str) -> (Vec<Text>, Vec<Rect>) {
+pub(crate) fn parse(svg: &str) -> (Vec<Text>, Vec<Rect>) {
     let num = |e: &str, n: &str| attr(e, n).and_then(|v| v.parse::<f64>().ok());
     let mut texts = Vec::new();
     let mut rects = Vec::new();
@@ -74,16 +74,16 @@ fn parse(svg: &str) -> (Vec<Text>, Vec<Rect>) {
 
 /// A cell as a heat map draws it: the tile's fill and the lines written on it.
 #[derive(Debug)]
-struct Tile {
-    column: String,
-    row: String,
-    fill: String,
-    lines: Vec<String>,
+pub(crate) struct Tile {
+    pub(crate) column: String,
+    pub(crate) row: String,
+    pub(crate) fill: String,
+    pub(crate) lines: Vec<String>,
 }
 
 /// The tiles of a heat map, each placed by the tick labels under its column and left of
 /// its row, with the legend's colours (label → fill).
-fn tiles(svg: &str) -> (Vec<Tile>, Vec<(String, String)>, Vec<Text>) {
+pub(crate) fn tiles(svg: &str) -> (Vec<Tile>, Vec<(String, String)>, Vec<Text>) {
     let (texts, rects) = parse(svg);
     let legend: Vec<(String, String)> = rects
         .iter()
@@ -172,6 +172,15 @@ fn scene_grid_heat_maps_show_each_cell_as_the_analyser_answers_it() {
         "{md}"
     );
     assert!(md.contains("## Worst cases"), "{md}");
+    for row in [
+        "| `controller.reaction_radius` | reaction radius ρ | (varied: see axes) |",
+        "| `scene.lanes` | lanes | [0, 1] |",
+        "| 0 | \"first\" | 0 | 10 | (varied: see axes) | false |",
+        "| 1 | \"second\" | 0 | 12.5 | (varied: see axes) | false |",
+        "| 3 | \"box\" | 1 | 5 | 0 | true |",
+    ] {
+        assert!(md.contains(row), "header lists {row}: {md}");
+    }
     let base = std::fs::read_to_string(dir.path().join("scene-oncoming.toml")).unwrap();
     for (k, w0) in ["0.1", "0.15"].iter().enumerate() {
         let svg = std::fs::read_to_string(out.join(format!("three-verdicts-{}.svg", k + 1)))

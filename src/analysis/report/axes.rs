@@ -84,6 +84,15 @@ fn plain(key: &str) -> Option<(&'static str, Option<&'static str>)> {
         "robot.sensing_range" => ("sensing range R", Some("R")),
         "controller.lane_change_periods" => ("lane change duration", None),
         "controller.lane_change_rear_gap" => ("lane change rear gap", None),
+        "controller.lane_change" => ("lane changes allowed", None),
+        "controller.danger_rule" => ("danger rule", None),
+        "controller.wrong_assumption_brake" => ("brake when seen faster than V_a", None),
+        "robot.braking_min" => ("robot least braking b_min", Some("b_min")),
+        "robot.initial_speed" => ("robot start speed v0", Some("v0")),
+        "sensing.gap_noise" => ("gap noise σ_g", Some("σ_g")),
+        "sensing.speed_noise" => ("speed noise σ_w", Some("σ_w")),
+        "sensing.first_detection_gap" => ("first detection gap d_det", Some("d_det")),
+        "scene.lanes" => ("lanes", None),
         _ => return None,
     })
 }
@@ -127,17 +136,13 @@ fn numeric(values: &[toml::Value]) -> bool {
 
 /// The two axes a heat map spans, x then y, or why there is none.
 ///
-/// A single-obstacle grid has one over (W, ρ) when it has both axes, as it always had. A
-/// scene grid takes an obstacle's speed bound across and the radius up when it varies
+/// A single-obstacle grid with both W and ρ axes has one over (W, ρ), as it always had.
+/// Any other grid takes an obstacle's speed bound across and the radius up when it varies
 /// them, else the first numeric axes with more than one value.
 pub(super) fn heat_map_axes(grid: &Grid) -> Result<(String, String), String> {
     let has = |key: &str| grid.axes.iter().any(|(k, _)| k == key);
-    if !grid.scene {
-        return if has(SPEED_KEY) && has(RADIUS_KEY) {
-            Ok((SPEED_KEY.into(), RADIUS_KEY.into()))
-        } else {
-            Err("the grid has no obstacle-speed and reaction-radius axes".into())
-        };
+    if !grid.scene && has(SPEED_KEY) && has(RADIUS_KEY) {
+        return Ok((SPEED_KEY.into(), RADIUS_KEY.into()));
     }
     let varied: Vec<&String> = grid
         .axes

@@ -1,11 +1,13 @@
-//! The safe-radius curve ρ*(W) a report draws: for a single obstacle over its speed bound W
-//! (`safereach radius` per point), for a scene over the one obstacle bound W_i its grid
-//! varies (the scene radius search per point), or the reason a scene grid has none.
+//! The safe-radius curves ρ*(W) a report draws: for a single obstacle over its speed bound W
+//! (`safereach radius` per point), one curve per slice of the grid's other axes (each with
+//! that slice's values applied to the base, so a curve and the cells drawn on it are the
+//! same problems); for a scene over the one obstacle bound W_i its grid varies (the scene
+//! radius search per point), or the reason a scene grid has none.
 
 use rayon::prelude::*;
 
-use super::axes::obstacle_field;
-use super::{CurvePoint, RADIUS_KEY, SPEED_KEY};
+use super::axes::{Slice, obstacle_field, slices};
+use super::{CurvePoint, MAX_MAPS, RADIUS_KEY, SPEED_KEY};
 use crate::analysis::radius;
 use crate::analysis::scene_radius::scene_radius;
 use crate::analysis::sweep::Grid;
@@ -15,12 +17,16 @@ use crate::core::scene::Scene;
 /// What a report says about ρ*.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Curve {
-    /// ρ*(W) over the speed bound on axis `key`, at `points`' speeds.
+    /// ρ*(W) over the speed bound on axis `key`, one curve per slice of the grid's other
+    /// axes (the first [`MAX_MAPS`] of `total`).
     Radius {
         /// The speed-bound axis (`environment.obstacle_speed`, `obstacle.1.max_speed`).
         key: String,
-        /// W and ρ*(W), ascending in W.
-        points: Vec<CurvePoint>,
+        /// The curves, one per slice, in cell order.
+        slices: Vec<SliceCurve>,
+        /// How many slices the grid has (more than `slices` holds when it has more than
+        /// [`MAX_MAPS`]).
+        total: usize,
     },
     /// A scene grid without a curve, and why (the page says it).
     NotApplicable(String),
@@ -28,13 +34,23 @@ pub enum Curve {
     None,
 }
 
+/// ρ*(W) for one slice: the base with the slice's values applied.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SliceCurve {
+    /// The value of every axis other than W and ρ (empty when there are none).
+    pub slice: Vec<(String, serde_json::Value)>,
+    /// W and ρ*(W), ascending in W.
+    pub points: Vec<CurvePoint>,
+}
+
 /// Largest number of steps a scene curve takes: each point is a whole radius search (some
 /// 25 scene analyses), so a scene curve is coarser than a single obstacle's.
 const SCENE_POINTS: f64 = 8.0;
 
-/// The curve of a grid: ρ*(W) from 0 to a little past the grid's fastest W, for the base
-/// problem or scene with the grid's single-valued axes applied. Single-obstacle points are
-/// 0.01 m/s apart; a scene's at most 9, at a round step (0.05 m/s for W up to 0.35).
+/// The curves of a grid: ρ*(W) from 0 to a little past the grid's fastest W, for the base
+/// problem or scene with one slice's values of the other axes applied, per slice (the
+/// first [`MAX_MAPS`]). Single-obstacle points are 0.01 m/s apart; a scene's at most 9,
+/// at a round step (0.05 m/s for W up to 0.35).
 pub fn radius_curve(grid: &Grid) -> Result<Curve, String> {
     let key = match speed_axis(grid) {
         Ok(Some(k)) => k,
@@ -63,16 +79,34 @@ pub fn radius_curve(grid: &Grid) -> Result<Curve, String> {
     let speeds: Vec<f64> = (0..=steps)
         .map(|i| (i as f64 * step * 1000.0).round() / 1000.0)
         .collect();
-    let fixed = single_values(grid, &key);
-    let points = speeds
+    let all = slices(grid, &key, RADIUS_KEY);
+    let total = all.len();
+    let drawn: Vec<Slice> = all.into_iter().take(MAX_MAPS).collect();
+    let jobs: Vec<(usize, f64)> = (0..drawn.len())
+        .flat_map(|s| speeds.iter().map(move |&w| (s, w)))
+        .collect();
+    let rhos = jobs
         .par_iter()
-        .map(|&w| {
-            let mut sets = fixed.clone();
+        .map(|&(s, w)| {
+            let mut sets = overrides(&drawn[s]);
             sets.push(format!("{key}={w}"));
-            point(grid, &sets).map(|rho| (w, rho))
+            point(grid, &sets)
         })
         .collect::<Result<Vec<_>, String>>()?;
-    Ok(Curve::Radius { key, points })
+    let mut rhos = rhos.into_iter();
+    let slices = drawn
+        .into_iter()
+        .map(|slice| SliceCurve {
+            slice,
+            points: speeds.iter().map(|&w| (w, rhos.next().flatten())).collect(),
+        })
+        .collect();
+    Ok(Curve::Radius { key, slices, total })
+}
+
+/// A slice's values as `--set` overrides.
+fn overrides(slice: &Slice) -> Vec<String> {
+    slice.iter().map(|(k, v)| format!("{k}={v}")).collect()
 }
 
 /// ρ* of the base with `sets` applied.
@@ -105,17 +139,6 @@ fn round_step(raw: f64) -> f64 {
         }
         p *= 10.0;
     }
-}
-
-/// The grid's single-valued axes other than `key` as `--set` overrides (a single-obstacle
-/// grid: only the assumed speed, as its curve always had).
-fn single_values(grid: &Grid, key: &str) -> Vec<String> {
-    grid.axes
-        .iter()
-        .filter(|(k, v)| v.len() == 1 && k != key)
-        .filter(|(k, _)| grid.scene || k == "controller.assumed_obstacle_speed")
-        .map(|(k, v)| format!("{k}={}", v[0]))
-        .collect()
 }
 
 /// The axis the curve runs along; Ok(None) for a single-obstacle grid without one, Err

@@ -1,6 +1,7 @@
-//! The safe-radius curve ρ*(W) with the grid's cells overlaid as dots coloured by verdict:
-//! axes with round ticks, the assumed speed V_a as a dashed line, and a short legend. W is
-//! the single obstacle's bound, or the bound W_i of the scene obstacle the grid varies.
+//! The safe-radius curve ρ*(W) of one slice with that slice's cells overlaid as dots
+//! coloured by verdict: the slice under the title, axes with round ticks, the assumed speed
+//! V_a as a dashed line, and a short legend. W is the single obstacle's bound, or the bound
+//! W_i of the scene obstacle the grid varies.
 
 use std::fmt::Write as _;
 
@@ -20,45 +21,70 @@ const HEIGHT: f64 = 420.0;
 const LEFT: f64 = 70.0;
 /// Right margin.
 const RIGHT: f64 = 30.0;
-/// Top margin (room for the title).
+/// Top margin (room for the title), before the slice's lines.
 const TOP: f64 = 40.0;
+/// Height of a line of the slice under the title.
+const LINE: f64 = 16.0;
 /// Bottom margin (room for the W ticks and title).
 const BOTTOM: f64 = 60.0;
 
-/// The safe-radius curve over the speed axis `speed` with the grid's cells overlaid.
-pub(super) fn curve_plot(
-    results: &[CellResult],
-    curve: &[CurvePoint],
-    speed: &AxisLabel,
-    assumed: Option<f64>,
-) -> String {
-    let frame = Frame::new(results, curve, speed);
+/// One curve figure: the curve of a slice, and what it holds.
+pub(super) struct CurveFigure<'a> {
+    /// W and ρ*(W) of the slice.
+    pub(super) curve: &'a [CurvePoint],
+    /// The speed axis W runs along.
+    pub(super) speed: &'a AxisLabel,
+    /// The assumed speed V_a in the slice, drawn as a dashed line.
+    pub(super) assumed: Option<f64>,
+    /// The slice as `label = value` lines (empty when the grid has no other axes).
+    pub(super) slice: &'a [String],
+}
+
+/// The safe-radius curve of a slice with that slice's cells (`results`) overlaid.
+pub(super) fn curve_plot(results: &[CellResult], fig: &CurveFigure) -> String {
+    let (curve, speed) = (fig.curve, fig.speed);
+    let frame = Frame::new(results, curve, speed, fig.slice.len());
     let w = speed.symbol.as_deref().unwrap_or("W");
-    let mut svg = Svg::new(WIDTH as u32, HEIGHT as u32);
+    let mut svg = Svg::new(WIDTH as u32, frame.height as u32);
     svg.title(
         WIDTH / 2.0,
         &format!("Smallest certified reaction radius ρ*({w})"),
     );
+    for (k, line) in fig.slice.iter().enumerate() {
+        let y = TOP + LINE * k as f64 + 4.0;
+        svg.text(WIDTH / 2.0, y, MIDDLE, &format!("slice: {line}"));
+    }
     axes(&mut svg, &frame);
+    let assumed = fig.assumed;
     if let Some(va) = assumed.filter(|va| *va <= frame.wmax) {
         assumption_line(&mut svg, &frame, va);
     }
     curve_line(&mut svg, &frame, curve);
     cell_dots(&mut svg, &frame, results);
-    legend(&mut svg, w);
+    legend(&mut svg, &frame, w);
     svg.finish()
 }
 
-/// The data ranges and their mapping to pixels (W to the right, ρ upwards), and W's axis.
+/// The data ranges and their mapping to pixels (W to the right, ρ upwards), W's axis, and
+/// where the plot starts under the title and the slice's lines.
 struct Frame<'a> {
     wmax: f64,
     rmax: f64,
     speed: &'a AxisLabel,
+    /// Top edge of the plot.
+    top: f64,
+    /// Height of the figure.
+    height: f64,
 }
 
 impl Frame<'_> {
     /// Ranges covering the curve and the cells, ρ with 15% headroom rounded up to 0.1.
-    fn new<'a>(results: &[CellResult], curve: &[CurvePoint], speed: &'a AxisLabel) -> Frame<'a> {
+    fn new<'a>(
+        results: &[CellResult],
+        curve: &[CurvePoint],
+        speed: &'a AxisLabel,
+        slice_lines: usize,
+    ) -> Frame<'a> {
         let wmax = curve
             .iter()
             .map(|c| c.0)
@@ -70,7 +96,14 @@ impl Frame<'_> {
             .chain(sorted_values(results, RADIUS_KEY))
             .fold(0.0, f64::max);
         let rmax = (rmax_data * 1.15 * 10.0).ceil() / 10.0;
-        Frame { wmax, rmax, speed }
+        let below = LINE * slice_lines as f64;
+        Frame {
+            wmax,
+            rmax,
+            speed,
+            top: TOP + below,
+            height: HEIGHT + below,
+        }
     }
 
     fn sx(&self, w: f64) -> f64 {
@@ -78,15 +111,15 @@ impl Frame<'_> {
     }
 
     fn sy(&self, r: f64) -> f64 {
-        HEIGHT - BOTTOM - (HEIGHT - TOP - BOTTOM) * r / self.rmax.max(1e-9)
+        self.height - BOTTOM - (HEIGHT - TOP - BOTTOM) * r / self.rmax.max(1e-9)
     }
 }
 
 /// Both axes with their ticks, horizontal grid lines and titles.
 fn axes(svg: &mut Svg, f: &Frame) {
-    let (bottom, right) = (HEIGHT - BOTTOM, WIDTH - RIGHT);
+    let (top, bottom, right) = (f.top, f.height - BOTTOM, WIDTH - RIGHT);
     svg.path(
-        &format!("M{LEFT} {TOP} V{bottom} H{right}"),
+        &format!("M{LEFT} {top} V{bottom} H{right}"),
         " fill=\"none\" stroke=\"black\"",
     );
     for w in ticks(f.wmax) {
@@ -100,8 +133,8 @@ fn axes(svg: &mut Svg, f: &Frame) {
         );
     }
     let centre = (LEFT + right) / 2.0;
-    svg.text(centre, HEIGHT - 18.0, MIDDLE, &f.speed.titled());
-    svg.vertical_label((TOP + bottom) / 2.0, "reaction radius ρ (m)");
+    svg.text(centre, f.height - 18.0, MIDDLE, &f.speed.titled());
+    svg.vertical_label((top + bottom) / 2.0, "reaction radius ρ (m)");
 }
 
 /// The curve through the certified points, and a × at the top where none is certified.
@@ -115,7 +148,7 @@ fn curve_line(svg: &mut Svg, f: &Frame, curve: &[CurvePoint]) {
             }
             None => {
                 let attrs = format!("{MIDDLE} fill=\"{NONE}\"");
-                svg.text(d1(f.sx(*w)), d1(TOP + 10.0), &attrs, "×");
+                svg.text(d1(f.sx(*w)), d1(f.top + 10.0), &attrs, "×");
             }
         }
     }
@@ -127,13 +160,13 @@ fn curve_line(svg: &mut Svg, f: &Frame, curve: &[CurvePoint]) {
 fn assumption_line(svg: &mut Svg, f: &Frame, va: f64) {
     let x = f.sx(va);
     svg.path(
-        &format!("M{} {TOP} V{}", d1(x), HEIGHT - BOTTOM),
+        &format!("M{} {} V{}", d1(x), f.top, f.height - BOTTOM),
         " stroke=\"#888\" stroke-dasharray=\"4 4\"",
     );
-    svg.text(d1(x + 4.0), TOP + 12.0, " fill=\"#555\"", "V_a");
+    svg.text(d1(x + 4.0), f.top + 12.0, " fill=\"#555\"", "V_a");
 }
 
-/// Each cell on the (W, ρ) plane as a dot in its verdict colour.
+/// Each cell of the slice on the (W, ρ) plane as a dot in its verdict colour.
 fn cell_dots(svg: &mut Svg, f: &Frame, results: &[CellResult]) {
     for r in results {
         if let (Some(w), Some(rho)) = (axis_value(r, &f.speed.key), axis_value(r, RADIUS_KEY)) {
@@ -145,18 +178,23 @@ fn cell_dots(svg: &mut Svg, f: &Frame, results: &[CellResult]) {
 }
 
 /// What the line, the crosses and the dots mean, top left inside the axes.
-fn legend(svg: &mut Svg, w: &str) {
-    let lx = LEFT + 12.0;
+fn legend(svg: &mut Svg, f: &Frame, w: &str) {
+    let (lx, top) = (LEFT + 12.0, f.top);
     let certified = format!(" fill=\"{CERTIFIED}\"");
     let none = format!(" fill=\"{NONE}\"");
     svg.text(
         lx,
-        TOP + 14.0,
+        top + 14.0,
         &certified,
         &format!("— ρ*({w}): certified above the curve"),
     );
-    svg.text(lx, TOP + 30.0, &none, "× no radius is certified");
-    svg.text(lx, TOP + 46.0, "", "● grid cells, coloured by verdict");
+    svg.text(lx, top + 30.0, &none, "× no radius is certified");
+    let dots = if f.top > TOP {
+        "● the slice's cells, coloured by verdict"
+    } else {
+        "● grid cells, coloured by verdict"
+    };
+    svg.text(lx, top + 46.0, "", dots);
 }
 
 /// Round tick values from 0 to `max`: steps of 1, 2 or 5 times a power of ten, at most 8.

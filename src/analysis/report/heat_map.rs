@@ -16,8 +16,12 @@ const CW: u32 = 130;
 const CH: u32 = 64;
 /// Height of a line of text in a tile or under the title.
 const LINE: u32 = 16;
-/// Left margin (room for the radius labels).
+/// Least left margin (room for the radius labels); longer row labels widen it.
 const LEFT: u32 = 90;
+/// Width of a character of a row label, a little more than the font's average.
+const CHAR: u32 = 7;
+/// Room left of the row labels for the vertical axis title.
+const TITLE: u32 = 38;
 /// Top margin (room for the title), before the slice's lines.
 const TOP: u32 = 50;
 
@@ -40,21 +44,31 @@ pub(super) struct HeatMap<'a> {
 /// found for it).
 pub(super) fn heat_map(results: &[CellResult], map: &HeatMap) -> String {
     let scene = results.iter().any(|r| r.worst.is_some());
+    let ys = sorted_values(results, &map.y.key);
+    let longest = ys
+        .iter()
+        .map(|y| map.y.value(&y.to_string()).chars().count() as u32)
+        .max()
+        .unwrap_or(0);
     let tiles = Tiles {
+        left: LEFT.max(TITLE + CHAR * longest),
         xs: sorted_values(results, &map.x.key),
-        ys: sorted_values(results, &map.y.key),
+        ys,
         top: TOP + LINE * map.slice.len() as u32,
         ch: if scene { CH + LINE } else { CH },
     };
-    let mut svg = Svg::new(LEFT + tiles.width() + 170, tiles.top + tiles.height() + 70);
+    let mut svg = Svg::new(
+        tiles.left + tiles.width() + 170,
+        tiles.top + tiles.height() + 70,
+    );
     svg.title(
-        LEFT + tiles.width() / 2,
+        tiles.left + tiles.width() / 2,
         "Verdict per cell (Monte Carlo collisions / runs)",
     );
     for (k, line) in map.slice.iter().enumerate() {
         let y = TOP - 8 + LINE * k as u32;
         svg.text(
-            LEFT + tiles.width() / 2,
+            tiles.left + tiles.width() / 2,
             y,
             MIDDLE,
             &format!("slice: {line}"),
@@ -63,23 +77,25 @@ pub(super) fn heat_map(results: &[CellResult], map: &HeatMap) -> String {
     for (j, yv) in tiles.ys.iter().enumerate() {
         let y = tiles.row_top(j);
         let label = map.y.value(&yv.to_string());
-        svg.text(LEFT - 8, y + tiles.ch / 2 + 4, END, &label);
+        svg.text(tiles.left - 8, y + tiles.ch / 2 + 4, END, &label);
         for (i, xv) in tiles.xs.iter().enumerate() {
             let found = results.iter().find(|r| {
                 axis_value(r, &map.x.key) == Some(*xv) && axis_value(r, &map.y.key) == Some(*yv)
             });
             if let Some(r) = found {
-                tile(&mut svg, LEFT + CW * i as u32, y, tiles.ch, r);
+                tile(&mut svg, tiles.left + CW * i as u32, y, tiles.ch, r);
             }
         }
     }
     axis_labels(&mut svg, &tiles, map);
-    legend(&mut svg, LEFT + tiles.width() + 20, tiles.top);
+    legend(&mut svg, tiles.left + tiles.width() + 20, tiles.top);
     svg.finish()
 }
 
 /// The grid of tiles: the distinct x values (columns) and y values (rows), ascending.
 struct Tiles {
+    /// Left edge of the tiles (room for the row labels and the vertical title).
+    left: u32,
     xs: Vec<f64>,
     ys: Vec<f64>,
     /// Top edge of the tiles.
@@ -151,7 +167,7 @@ fn axis_labels(svg: &mut Svg, tiles: &Tiles, map: &HeatMap) {
         } else {
             ""
         };
-        let x = LEFT + CW * i as u32 + CW / 2;
+        let x = tiles.left + CW * i as u32 + CW / 2;
         let label = map.x.value(&xv.to_string());
         svg.text(x, base + 18, MIDDLE, &format!("{label}{mark}"));
     }
@@ -162,7 +178,7 @@ fn axis_labels(svg: &mut Svg, tiles: &Tiles, map: &HeatMap) {
             a.meaning.clone()
         }
     };
-    let centre = LEFT + tiles.width() / 2;
+    let centre = tiles.left + tiles.width() / 2;
     svg.text(centre, base + 40, MIDDLE, &title(map.x));
     svg.vertical_label(tiles.top + tiles.height() / 2, &title(map.y));
 }

@@ -1,23 +1,20 @@
-//! The Markdown page of a sweep: header and axes, the figures (with the certified map of the
+//! The Markdown page of a sweep: header, axes and the base's values, the figures (with the certified map of the
 //! (W, ρ) plane where the grid spans one), the table of cells, the safe-radius table, a
 //! scene's worst cases and the findings, in that order.
 
 use std::fmt::Write as _;
 
-use super::axes::{AxisLabel, Slice, heat_map_axes, in_slice, label, slices};
+use super::axes::label;
+use super::base_values::write_base_values;
 use super::cells::{axis_value, collisions_per_runs, fmt_opt, separation};
+use super::figures::{slice_lines, write_figures};
 use super::findings::{findings, scene_worst_cases};
-use super::heat_map::HeatMap;
 use super::region_plot::{self, PointCell};
 use super::{ASSUMED_KEY, Curve, Report};
-use super::{curve_plot::curve_plot, heat_map::heat_map};
 use crate::analysis::sweep::{CellResult, Grid};
 use crate::core::model::Problem;
 use crate::core::scene::Scene;
 use crate::proof::region_map::RegionMap;
-
-/// Most heat maps one report draws (one per slice of the axes they do not span).
-const MAX_MAPS: usize = 12;
 
 /// Builds the report of a grid from its (complete, ordered) cell results, curve and, for a
 /// grid over W and ρ, the certified map of that plane.
@@ -110,7 +107,7 @@ fn file_name(path: &std::path::Path) -> String {
         .unwrap_or_default()
 }
 
-/// Title, provenance line and the list of axes.
+/// Title, provenance line, the list of axes and the base's values.
 fn write_header(md: &mut String, grid: &Grid, cells: usize) {
     let _ = writeln!(md, "# Sweep `{}`\n", grid.name);
     let runs = if grid.runs > 0 {
@@ -134,6 +131,7 @@ fn write_header(md: &mut String, grid: &Grid, cells: usize) {
         let vals: Vec<String> = v.iter().map(|x| x.to_string()).collect();
         let _ = writeln!(md, "- `{k}`: {}", vals.join(", "));
     }
+    write_base_values(md, grid, &file_name(&grid.base_path));
 }
 
 /// The speed the controller assumes: the cells' axis value, else the base problem's or
@@ -153,115 +151,6 @@ fn assumed_speed(grid: &Grid, results: &[CellResult]) -> Option<f64> {
                     .map(|p| p.controller.assumed_obstacle_speed)
             }
         })
-}
-
-/// Draws the heat maps (one per slice of the other axes) and the curve, and links them from
-/// the page. A single-obstacle grid draws them only over (W, ρ), as it always did; a scene
-/// grid says why it draws none.
-fn write_figures(
-    md: &mut String,
-    grid: &Grid,
-    results: &[CellResult],
-    curve: &Curve,
-    assumed: Option<f64>,
-) -> Vec<(String, String)> {
-    let mut figures = Vec::new();
-    let (x, y) = match heat_map_axes(grid) {
-        Ok(axes) => axes,
-        Err(why) => {
-            if grid.scene {
-                let _ = writeln!(md, "\nNo heat map: {why}.");
-                scene_curve_figure(md, grid, results, curve, assumed, &mut figures);
-            }
-            return figures;
-        }
-    };
-    let (xl, yl) = (label(grid, &x), label(grid, &y));
-    let all = slices(grid, &x, &y);
-    let name = &grid.name;
-    let mut first = true;
-    for (k, slice) in all.iter().take(MAX_MAPS).enumerate() {
-        let lines = slice_lines(grid, slice);
-        let cells: Vec<CellResult> = results
-            .iter()
-            .filter(|r| in_slice(r, slice))
-            .cloned()
-            .collect();
-        let map = HeatMap {
-            x: &xl,
-            y: &yl,
-            slice: lines.clone(),
-            titled: grid.scene,
-            assumed: slice_assumed(slice).or(assumed),
-        };
-        let file = if all.len() == 1 {
-            format!("{name}-verdicts.svg")
-        } else {
-            format!("{name}-verdicts-{}.svg", k + 1)
-        };
-        figures.push((file.clone(), heat_map(&cells, &map)));
-        let alt = if all.len() == 1 {
-            "verdicts per cell".to_string()
-        } else {
-            format!("verdicts per cell, slice {}", lines.join(", "))
-        };
-        let gap = if first { "\n" } else { "" };
-        first = false;
-        let _ = writeln!(md, "{gap}![{alt}]({file})\n");
-    }
-    if all.len() > MAX_MAPS {
-        let _ = writeln!(
-            md,
-            "The grid has {} slices across its other axes; the first {MAX_MAPS} are drawn, the \
-             table below has every cell.\n",
-            all.len()
-        );
-    }
-    if grid.scene {
-        scene_curve_figure(md, grid, results, curve, assumed, &mut figures);
-    } else if let Curve::Radius { key, points } = curve {
-        let fig = format!("{name}-radius.svg");
-        let svg = curve_plot(results, points, &label(grid, key), assumed);
-        figures.push((fig.clone(), svg));
-        let _ = writeln!(md, "![safe radius curve]({fig})\n");
-    }
-    figures
-}
-
-/// A scene grid's curve figure (the page says why there is none in the curve section).
-fn scene_curve_figure(
-    md: &mut String,
-    grid: &Grid,
-    results: &[CellResult],
-    curve: &Curve,
-    assumed: Option<f64>,
-    figures: &mut Vec<(String, String)>,
-) {
-    if let Curve::Radius { key, points } = curve {
-        let fig = format!("{}-radius.svg", grid.name);
-        let svg = curve_plot(results, points, &label(grid, key), assumed);
-        figures.push((fig.clone(), svg));
-        let _ = writeln!(md, "![safe radius curve]({fig})\n");
-    }
-}
-
-/// A slice as `meaning = value unit` lines, one per axis it holds.
-fn slice_lines(grid: &Grid, slice: &Slice) -> Vec<String> {
-    slice
-        .iter()
-        .map(|(k, v)| {
-            let l: AxisLabel = label(grid, k);
-            format!("{} = {}", l.meaning, l.value(&v.to_string()))
-        })
-        .collect()
-}
-
-/// The assumed speed a slice holds, when it holds one.
-fn slice_assumed(slice: &Slice) -> Option<f64> {
-    slice
-        .iter()
-        .find(|(k, _)| k == ASSUMED_KEY)
-        .and_then(|(_, v)| v.as_f64())
 }
 
 /// The table of cells: one column per axis, then the verdict and the numbers, and for a
@@ -323,11 +212,11 @@ fn write_row(md: &mut String, keys: &[&String], r: &CellResult, scene: bool) {
     let _ = writeln!(md);
 }
 
-/// The safe-radius section (nothing for a single-obstacle grid without a curve; for a
-/// scene grid without one, why).
+/// The safe-radius section, a table per slice (nothing for a single-obstacle grid without a
+/// curve; for a scene grid without one, why).
 fn write_curve_table(md: &mut String, grid: &Grid, curve: &Curve) {
-    let (key, points) = match curve {
-        Curve::Radius { key, points } => (key, points),
+    let (key, slices, total) = match curve {
+        Curve::Radius { key, slices, total } => (key, slices, *total),
         Curve::NotApplicable(why) => {
             let _ = writeln!(md, "\n## Safe radius ρ*(W)\n");
             let _ = writeln!(md, "No safe-radius curve: {why}.");
@@ -335,17 +224,10 @@ fn write_curve_table(md: &mut String, grid: &Grid, curve: &Curve) {
         }
         Curve::None => return,
     };
-    if !grid.scene {
-        let _ = writeln!(md, "\n## Safe radius ρ*(W)\n");
-        let _ = writeln!(
-            md,
-            "The smallest certified reaction radius for each obstacle speed bound W (`safereach radius`, to 1e-9 m):\n"
-        );
-        let _ = writeln!(md, "| W (m/s) | ρ* (m) |\n|---|---|");
-    } else {
-        let l = label(grid, key);
-        let w = l.symbol.clone().unwrap_or_else(|| "W".into());
-        let _ = writeln!(md, "\n## Safe radius ρ*({w})\n");
+    let l = label(grid, key);
+    let w = l.symbol.clone().unwrap_or_else(|| "W".into());
+    let _ = writeln!(md, "\n## Safe radius ρ*({w})\n");
+    if grid.scene {
         let _ = writeln!(
             md,
             "The smallest certified reaction radius for each {}, every other key at its value \
@@ -355,12 +237,34 @@ fn write_curve_table(md: &mut String, grid: &Grid, curve: &Curve) {
             l.meaning,
             crate::analysis::scene_radius::TOLERANCE
         );
-        let _ = writeln!(md, "| {w} ({}) | ρ* (m) |\n|---|---|", l.unit);
+    } else {
+        let _ = writeln!(
+            md,
+            "The smallest certified reaction radius for each obstacle speed bound W \
+             (`safereach radius`, to 1e-9 m), per slice: the base problem with the slice's \
+             values of the other axes.\n"
+        );
     }
-    for (w, rho) in points {
-        let rho = rho
-            .map(|r| format!("{r:.6}"))
-            .unwrap_or_else(|| "none".into());
-        let _ = writeln!(md, "| {w} | {rho} |");
+    for (k, c) in slices.iter().enumerate() {
+        if k > 0 {
+            let _ = writeln!(md);
+        }
+        if !c.slice.is_empty() {
+            let _ = writeln!(md, "Slice: {}.\n", slice_lines(grid, &c.slice).join(", "));
+        }
+        let _ = writeln!(md, "| {w} ({}) | ρ* (m) |\n|---|---|", l.unit);
+        for (w, rho) in &c.points {
+            let rho = rho
+                .map(|r| format!("{r:.6}"))
+                .unwrap_or_else(|| "none".into());
+            let _ = writeln!(md, "| {w} | {rho} |");
+        }
+    }
+    if total > slices.len() {
+        let _ = writeln!(
+            md,
+            "\nThe grid has {total} slices across its other axes; the first {} are computed.",
+            slices.len()
+        );
     }
 }
