@@ -161,8 +161,8 @@ mod scene;
 mod summary;
 pub mod trace;
 
-use check::Carried;
 pub use check::{BehaviourCheck, Bounds, Check, FailSafe, SceneCheck};
+use check::{Carried, Fast};
 use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
@@ -380,6 +380,8 @@ pub(crate) struct Reaction {
 #[derive(Clone, Debug)]
 pub struct Monitor {
     bounds: Bounds,
+    /// What the per-sample checks derive from `bounds`, computed once.
+    fast: Fast,
     /// The certified controller and robot.
     rule: Rule,
     /// min(ρ, d(v)) at the current instant's robot speed: for moving obstacles, and for a
@@ -496,6 +498,7 @@ impl Monitor {
         reserve: usize,
     ) -> Monitor {
         Monitor {
+            fast: Fast::of(&bounds),
             bounds,
             reaction_distance: [0.0; 2],
             reaction_speed: f64::NAN,

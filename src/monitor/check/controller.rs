@@ -19,6 +19,7 @@
 //! guard): in the area in the same sense, and the obstacle surely faster than V_a — its
 //! stated speed less σ_w, else its estimated speed less its noise and rounding, above V_a.
 
+use super::obstacle::Slowest;
 use super::{Check, rounding};
 use crate::core::semantics::{Mode, danger_distance};
 use crate::monitor::event::{Detail, Violation};
@@ -49,8 +50,13 @@ impl Monitor {
             return;
         }
         let a = self.rule.moving.a;
-        let acceleration = (s.robot_v - r.v) / step;
         self.count(Check::RobotEnvelope);
+        // A robot that did not speed up is within any a ≥ 0 (the tolerance is not negative);
+        // skipping the divisions changes no verdict.
+        if s.robot_v - r.v <= 0.0 && a >= 0.0 {
+            return;
+        }
+        let acceleration = (s.robot_v - r.v) / step;
         let tolerance =
             RELATIVE_TOLERANCE * a + (rounding(r.v, s.robot_v) + a * rounding(r.t, s.t)) / step;
         if acceleration > a + tolerance {
@@ -82,7 +88,7 @@ impl Monitor {
         &mut self,
         s: &Sample,
         gap: f64,
-        slowest: Option<f64>,
+        slowest: Slowest,
         lane: Option<i32>,
         fixed: bool,
     ) {
@@ -97,7 +103,9 @@ impl Monitor {
         let wrong = !danger
             && !fixed
             && p.wrong_assumption_brake
-            && slowest.is_some_and(|w| w > p.V_a + RELATIVE_TOLERANCE * p.V_a.max(1.0));
+            && slowest
+                .get()
+                .is_some_and(|w| w > p.V_a + RELATIVE_TOLERANCE * p.V_a.max(1.0));
         if !(danger || wrong) {
             return;
         }

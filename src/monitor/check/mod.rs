@@ -343,6 +343,37 @@ impl PremiseCheck {
     }
 }
 
+/// Numbers the per-sample checks derive from the bounds, computed once: each exactly as the
+/// check would compute it per sample (the same operations in the same order), so verdicts,
+/// observed values and margins are bit for bit what they were.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Fast {
+    /// W + σ_w: the bound of a stated speed (m/s).
+    pub(crate) stated_speed: f64,
+    /// W + W·[`RELATIVE_TOLERANCE`](super::RELATIVE_TOLERANCE): an estimated speed at most
+    /// this is within its bound whatever its slack (m/s).
+    pub(crate) estimated_speed: f64,
+    /// 2σ_g (m).
+    pub(crate) noise: f64,
+    /// The last span 2σ_g was divided by (NaN: none), and the quotient.
+    pub(crate) noise_span: f64,
+    pub(crate) noise_per_span: f64,
+}
+
+impl Fast {
+    /// The numbers for `bounds`.
+    pub(crate) fn of(bounds: &Bounds) -> Fast {
+        let w = bounds.obstacle_speed;
+        Fast {
+            stated_speed: w + bounds.speed_noise,
+            estimated_speed: w + super::RELATIVE_TOLERANCE * w,
+            noise: 2.0 * bounds.observation_noise,
+            noise_span: f64::NAN,
+            noise_per_span: f64::NAN,
+        }
+    }
+}
+
 /// The bounds the monitor checks, read from a certificate's premises.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bounds {

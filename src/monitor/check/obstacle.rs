@@ -54,10 +54,35 @@ pub(in crate::monitor) struct SpeedSeen {
     /// The obstacle's previous observation must stay the reference for estimates (this one
     /// was taken at the same time).
     pub(in crate::monitor) keep_reference: bool,
-    /// The slowest it can truly be moving towards the robot, as far as the sample shows
-    /// (the stated speed less σ_w, else the estimate less its slack; `None`: neither, or a
-    /// static obstacle): what the wrong-assumption guard is checked against.
-    pub(in crate::monitor) slowest: Option<f64>,
+    /// The slowest it can truly be moving towards the robot, as far as the sample shows:
+    /// what the wrong-assumption guard is checked against.
+    pub(in crate::monitor) slowest: Slowest,
+}
+
+/// The slowest an obstacle can truly be moving towards the robot, as far as a sample shows:
+/// the stated speed less σ_w, else the estimate less its slack. An estimate's slack costs a
+/// division, and the guard needs it only for an obstacle in the reaction area, so it is
+/// computed when asked for ([`Slowest::get`]).
+#[derive(Clone, Copy, Debug)]
+pub(in crate::monitor) enum Slowest {
+    /// Neither a stated nor an estimated speed, or a static obstacle.
+    Unknown,
+    /// The stated speed less σ_w (m/s).
+    Stated(f64),
+    /// The speed estimated from positions, less its slack.
+    Estimated(Estimate),
+}
+
+impl Slowest {
+    /// The speed (m/s), if the sample shows one.
+    #[inline]
+    pub(in crate::monitor) fn get(self) -> Option<f64> {
+        match self {
+            Slowest::Unknown => None,
+            Slowest::Stated(v) => Some(v),
+            Slowest::Estimated(e) => Some(e.speed - e.slack()),
+        }
+    }
 }
 
 fn noise_not_monitored(_: Carried) -> Option<&'static str> {
@@ -99,18 +124,29 @@ impl Monitor {
         track: &Track,
         certified: Option<CertifiedObstacle>,
     ) -> SpeedSeen {
-        let w = certified.map_or(self.bounds.obstacle_speed, |o| o.max_speed);
+        let (w, stated_bound, estimated_bound) = match certified {
+            None => (
+                self.bounds.obstacle_speed,
+                self.fast.stated_speed,
+                self.fast.estimated_speed,
+            ),
+            Some(o) => (
+                o.max_speed,
+                o.max_speed + self.bounds.speed_noise,
+                o.max_speed + RELATIVE_TOLERANCE * o.max_speed,
+            ),
+        };
         let mut raised = false;
-        let mut slowest = None;
+        let mut slowest = Slowest::Unknown;
         if let Some(v) = s.obstacle_v {
-            let allowed = w + self.bounds.speed_noise;
+            let allowed = stated_bound;
             self.count_with_slack(Check::ObstacleSpeed, allowed - v, s.t);
             if v > allowed {
                 let violation = Violation::at(Check::ObstacleSpeed, s);
                 self.raise(violation.observed(v).bound(allowed));
                 raised = true;
             }
-            slowest = Some(v - self.bounds.speed_noise);
+            slowest = Slowest::Stated(v - self.bounds.speed_noise);
         }
         if !track.seen {
             return SpeedSeen {
@@ -124,18 +160,23 @@ impl Monitor {
                 slowest,
             };
         };
-        let allowed = w + 2.0 * self.bounds.observation_noise / estimate.span;
         if s.obstacle_v.is_none() {
+            let allowed = w + self.noise_over(estimate.span);
             self.count_with_slack(Check::ObstacleSpeed, allowed - estimate.speed, s.t);
         }
-        if !raised && estimate.speed > w + RELATIVE_TOLERANCE * w + estimate.slack {
+        // The slack is never negative: a speed within the bound alone is within it.
+        if !raised
+            && estimate.speed > estimated_bound
+            && estimate.speed > estimated_bound + estimate.slack()
+        {
+            let allowed = w + self.noise_over(estimate.span);
             let violation = Violation::at(Check::ObstacleSpeed, s);
             self.raise(violation.observed(estimate.speed).bound(allowed));
         }
         match s.obstacle_v {
             Some(v) if track.instant + 1 == self.instant => self.check_consistency(s, v, &estimate),
             Some(_) => {}
-            None => slowest = Some(estimate.speed - estimate.slack),
+            None => slowest = Slowest::Estimated(estimate),
         }
         SpeedSeen {
             keep_reference: false,
@@ -148,14 +189,36 @@ impl Monitor {
     /// estimate's rounding and [`RELATIVE_TOLERANCE`] of the larger speed.
     #[inline(always)]
     fn check_consistency(&mut self, s: &Sample, v: f64, estimate: &Estimate) {
-        let allowed = self.bounds.speed_noise + 2.0 * self.bounds.observation_noise / estimate.span;
+        let allowed = self.bounds.speed_noise + self.noise_over(estimate.span);
         let differ = (v - estimate.speed).abs();
         self.count_with_slack(Check::ObservationInconsistent, allowed - differ, s.t);
-        let tolerance = estimate.rounding + RELATIVE_TOLERANCE * v.abs().max(estimate.speed.abs());
-        if differ > allowed + tolerance {
-            let violation = Violation::at(Check::ObservationInconsistent, s);
-            self.raise(violation.observed(differ).bound(allowed));
+        // The tolerance is the estimate's rounding (never negative, and a division) plus a
+        // relative part: a difference within `allowed` and the relative part is within it.
+        let relative = RELATIVE_TOLERANCE * v.abs().max(estimate.speed.abs());
+        if differ > allowed + relative {
+            let tolerance = estimate.rounding() + relative;
+            if differ > allowed + tolerance {
+                let violation = Violation::at(Check::ObservationInconsistent, s);
+                self.raise(violation.observed(differ).bound(allowed));
+            }
         }
+    }
+
+    /// 2σ_g/Δt, the most observation noise can add to a speed estimated over `span` (s):
+    /// exactly `2.0 * σ_g / span`, without the division when σ_g = 0 or `span` is the last
+    /// one asked about (the obstacles of one instant share it).
+    #[inline(always)]
+    fn noise_over(&mut self, span: f64) -> f64 {
+        let noise = self.fast.noise;
+        if noise == 0.0 {
+            // ±0 divided by a positive span is itself.
+            return noise;
+        }
+        if span != self.fast.noise_span {
+            self.fast.noise_span = span;
+            self.fast.noise_per_span = noise / span;
+        }
+        self.fast.noise_per_span
     }
 
     /// `static_obstacle`, for an obstacle the scene states static: it must not move, either
@@ -182,7 +245,7 @@ impl Monitor {
                     let allowed = noise / estimate.span;
                     let slack = allowed - estimate.speed.abs();
                     self.count_with_slack(Check::StaticObstacle, slack, s.t);
-                    if moved.is_none() && estimate.speed.abs() > allowed + estimate.rounding {
+                    if moved.is_none() && estimate.speed.abs() > allowed + estimate.rounding() {
                         moved = Some((estimate.speed.abs(), allowed));
                     }
                 }
@@ -195,14 +258,14 @@ impl Monitor {
         }
         SpeedSeen {
             keep_reference,
-            slowest: None,
+            slowest: Slowest::Unknown,
         }
     }
 
     /// The obstacle's speed towards the robot estimated from its last observation, over
     /// observation times when both have them, else over sample times, with the slack its
-    /// rounding error and observation noise (2σ/Δt) allow; `None` when the two were taken at
-    /// the same time (estimate later, from the older one).
+    /// rounding error and observation noise (2σ/Δt) allow ([`Estimate::slack`]); `None`
+    /// when the two were taken at the same time (estimate later, from the older one).
     #[inline(always)]
     fn estimated_speed(&self, s: &Sample, track: &Track) -> Option<Estimate> {
         let (t0, t1) = match s.obstacle_t {
@@ -214,27 +277,42 @@ impl Monitor {
             return None;
         }
         let speed = (track.x - s.obstacle_x) / span;
-        let (positions, times) = (rounding(track.x, s.obstacle_x), rounding(t0, t1));
-        let slack = (2.0 * self.bounds.observation_noise + positions + speed.abs() * times) / span;
-        let rounded = positions + speed.abs() * times;
         Some(Estimate {
             speed,
-            slack,
-            rounding: rounded / span,
             span,
+            positions: rounding(track.x, s.obstacle_x),
+            times: rounding(t0, t1),
+            noise: self.fast.noise,
         })
     }
 }
 
-/// A speed estimated from two observations.
+/// A speed estimated from two observations. What rounding and noise may add to it costs a
+/// division each, and is needed only near a bound, so it is computed when asked for.
 #[derive(Clone, Copy, Debug)]
-struct Estimate {
+pub(in crate::monitor) struct Estimate {
     /// (x₀ − x₁)/Δt (m/s), towards the robot.
     speed: f64,
-    /// What rounding and observation noise may add to it (m/s).
-    slack: f64,
-    /// What rounding alone may add to it (m/s).
-    rounding: f64,
     /// Δt (s).
     span: f64,
+    /// The rounding error of x₀ − x₁ (m).
+    positions: f64,
+    /// The rounding error of Δt (s).
+    times: f64,
+    /// 2σ_g (m).
+    noise: f64,
+}
+
+impl Estimate {
+    /// What rounding and observation noise may add to the speed (m/s): never negative.
+    #[inline]
+    fn slack(&self) -> f64 {
+        (self.noise + self.positions + self.speed.abs() * self.times) / self.span
+    }
+
+    /// What rounding alone may add to the speed (m/s): never negative.
+    #[inline]
+    fn rounding(&self) -> f64 {
+        (self.positions + self.speed.abs() * self.times) / self.span
+    }
 }

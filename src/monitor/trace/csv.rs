@@ -3,8 +3,7 @@
 //! numbers parsed where they stand.
 
 use super::number::{parse_f64, parse_lane, scan_number};
-use super::{Format, IdAt, Raw, lane_of, num_slot, strip_bom, trim};
-use crate::core::semantics::Mode;
+use super::{Format, IdAt, Raw, lane_of, mode_named, num_slot, strip_bom, trim};
 use crate::monitor::{Detail, Field};
 
 /// The columns of a CSV trace.
@@ -378,7 +377,7 @@ fn read_field<'l>(
         }
         Col::Mode => {
             if !text.is_empty() {
-                raw.robot_mode = Some(Mode::from_name(text).ok_or(Detail::BadMode)?);
+                raw.robot_mode = Some(mode_named(text).ok_or(Detail::BadMode)?);
             }
         }
         Col::Id => {

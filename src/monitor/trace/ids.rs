@@ -17,8 +17,25 @@ pub struct Ids {
     long: FxHashMap<Box<[u8]>, ObstacleId>,
     names: Vec<String>,
     pub(super) limit: u32,
-    /// The last short id looked up: a trace of one obstacle needs no hashing at all.
-    last: Option<(u128, ObstacleId)>,
+    /// Short ids looked up lately, by [`slot`]: a trace of a few obstacles, interleaved or
+    /// not, needs no hashing at all. An entry is a packed id (or [`NO_KEY`]) and its number.
+    recent: [(u128, ObstacleId); RECENT],
+}
+
+/// Entries of [`Ids`]'s cache of recent short ids.
+const RECENT: usize = 16;
+
+/// A key no short id packs to (its length byte is above 15).
+const NO_KEY: u128 = u128::MAX;
+
+/// The cache entry of a packed short id: a multiplicative hash of its two halves, so that
+/// ids differing in any byte (`0`, `1`, … or `car_1`, `car_2`, …) tend to take different
+/// entries.
+#[inline]
+fn slot(key: u128) -> usize {
+    let folded = (key as u64) ^ ((key >> 64) as u64);
+    let folded = folded ^ (folded >> 32);
+    (folded.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 60) as usize % RECENT
 }
 
 /// A short id as one integer: its bytes, then its length in the top byte. (Built in
@@ -43,7 +60,7 @@ impl Ids {
             long: FxHashMap::default(),
             names: Vec::new(),
             limit,
-            last: None,
+            recent: [(NO_KEY, 0); RECENT],
         }
     }
 
@@ -52,10 +69,11 @@ impl Ids {
     #[inline]
     pub fn get_or_insert(&mut self, text: &[u8]) -> Option<ObstacleId> {
         let key = pack(text);
-        if let (Some(key), Some((last, id))) = (key, self.last)
-            && key == last
-        {
-            return Some(id);
+        if let Some(key) = key {
+            let (cached, id) = self.recent[slot(key)];
+            if cached == key {
+                return Some(id);
+            }
         }
         let found = match key {
             Some(key) => self.short.get(&key).copied(),
@@ -81,7 +99,7 @@ impl Ids {
             }
         };
         if let Some(key) = key {
-            self.last = Some((key, id));
+            self.recent[slot(key)] = (key, id);
         }
         Some(id)
     }

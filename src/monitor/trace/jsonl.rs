@@ -7,8 +7,7 @@
 //! not write.
 
 use super::number::{parse_f64, parse_lane};
-use super::{IdAt, Raw, lane_of, num_slot};
-use crate::core::semantics::Mode;
+use super::{IdAt, Raw, lane_of, mode_named, num_slot};
 use crate::monitor::{Detail, Field};
 
 struct Json<'l> {
@@ -286,7 +285,7 @@ fn json_field<'l>(
         Field::RobotMode => match j.peek() {
             Some(b'"') => {
                 let (text, _, _) = j.string()?;
-                raw.robot_mode = Some(Mode::from_name(text).ok_or(Detail::BadMode)?);
+                raw.robot_mode = Some(mode_named(text).ok_or(Detail::BadMode)?);
             }
             _ => {
                 if j.token() != b"null" {

@@ -84,6 +84,20 @@ fn trim(s: &[u8]) -> &[u8] {
     &s[a..b]
 }
 
+/// The mode a trace names, in any ASCII case ([`Mode::from_name`]); the names as written by
+/// `simulate --trace` (lower case) are matched first, without a search.
+#[inline]
+fn mode_named(text: &[u8]) -> Option<Mode> {
+    match text {
+        b"drive" => Some(Mode::Drive),
+        b"brake" => Some(Mode::Brake),
+        b"accelerate" => Some(Mode::Accelerate),
+        b"stop" => Some(Mode::Stop),
+        b"idle" => Some(Mode::Idle),
+        _ => Mode::from_name(text),
+    }
+}
+
 /// What one line of a trace is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Decoded<'l> {
