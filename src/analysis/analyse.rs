@@ -511,7 +511,7 @@ fn replay_witness(
         piece,
         shift,
         margin,
-        robot_modes: mode_segments(&steps, speeds.len()),
+        robot_modes: mode_segments(replay.run.records.iter().map(|r| r.robot.mode)),
         obstacle_speeds: speeds,
         collides: replay.collided(),
         separation: replay.rest_gap().as_ref().map(f64_at_most),

@@ -11,7 +11,6 @@
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::core::semantics::Mode;
-use crate::core::simulate::TraceRow;
 
 /// Most periods a witness file may describe. Validation keeps each part of a problem's
 /// horizon (reaching top speed, covering the initial gap, stopping) within 10⁶ periods, so a
@@ -93,17 +92,17 @@ pub fn speeds_from_segments(segments: &[SpeedSegment]) -> Result<Vec<f64>, Strin
     Ok(speeds)
 }
 
-/// The robot's modes per period of a replay's rows (one row per period start, then the
-/// instant of rest, which starts no period of its own).
-pub fn mode_segments(rows: &[TraceRow], periods: usize) -> Vec<ModeSegment> {
+/// The robot's modes per period (its mode at each period's start, as a replay's records or
+/// rows give it) as maximal segments.
+pub fn mode_segments(modes: impl IntoIterator<Item = Mode>) -> Vec<ModeSegment> {
     let mut out: Vec<ModeSegment> = Vec::new();
-    for (k, row) in rows.iter().take(periods).enumerate() {
+    for (k, mode) in modes.into_iter().enumerate() {
         match out.last_mut() {
-            Some(last) if last.mode == row.robot_mode => last.length += 1,
+            Some(last) if last.mode == mode => last.length += 1,
             _ => out.push(ModeSegment {
                 start: k,
                 length: 1,
-                mode: row.robot_mode,
+                mode,
             }),
         }
     }
