@@ -258,16 +258,7 @@ fn report_refuses_stale_results_and_reads_several_directories() {
 fn slurm_dry_run_prints_both_jobs_and_writes_nothing() {
     let dir = tmp();
     grid_copy(dir.path());
-    let out = plain(dir.path())
-        .args([
-            "sweep",
-            "seed-grid.toml",
-            "--out",
-            "res",
-            "--slurm",
-            "--shards",
-            "4",
-        ])
+    let out = slurm_sweep(dir.path(), "res", "4")
         .args([
             "--sbatch-arg=--partition=debug",
             "--sbatch-arg",
@@ -303,20 +294,26 @@ fn slurm_dry_run_prints_both_jobs_and_writes_nothing() {
         .assert()
         .code(2)
         .stderr(predicates::str::contains("--shards"));
-    plain(dir.path())
-        .args([
-            "sweep",
-            "seed-grid.toml",
-            "--out",
-            "my res",
-            "--slurm",
-            "--shards",
-            "2",
-        ])
+    slurm_sweep(dir.path(), "my res", "2")
         .arg("--dry-run")
         .assert()
         .code(2)
         .stderr(predicates::str::contains("white space"));
+}
+
+/// `safereach sweep seed-grid.toml --out OUT --slurm --shards N` in `dir`.
+fn slurm_sweep(dir: &Path, out: &str, shards: &str) -> assert_cmd::Command {
+    let mut cmd = plain(dir);
+    cmd.args([
+        "sweep",
+        "seed-grid.toml",
+        "--out",
+        out,
+        "--slurm",
+        "--shards",
+        shards,
+    ]);
+    cmd
 }
 
 /// A stand-in `sbatch` on PATH: records its arguments, prints job ids 100, 101, …, or
@@ -412,17 +409,8 @@ fn slurm_submission_scripts_run_as_slurm_runs_them_give_the_unsharded_output() {
     assert!(std::fs::read(res.join("seed-grid.jsonl")).unwrap() == jsonl);
     assert!(std::fs::read(res.join("seed-grid.csv")).unwrap() == csv);
     // A second submission into the same directory would mix runs: refused.
-    plain(dir.path())
+    slurm_sweep(dir.path(), "res", "4")
         .env("PATH", path_with(&bin))
-        .args([
-            "sweep",
-            "seed-grid.toml",
-            "--out",
-            "res",
-            "--slurm",
-            "--shards",
-            "4",
-        ])
         .assert()
         .code(2)
         .stderr(predicates::str::contains(
@@ -431,17 +419,8 @@ fn slurm_submission_scripts_run_as_slurm_runs_them_give_the_unsharded_output() {
     // sbatch refusing the job: exit 2 with sbatch's reason.
     let refusing = dir.path().join("bin-refusing");
     stand_in_sbatch(&refusing, true);
-    plain(dir.path())
+    slurm_sweep(dir.path(), "res2", "2")
         .env("PATH", path_with(&refusing))
-        .args([
-            "sweep",
-            "seed-grid.toml",
-            "--out",
-            "res2",
-            "--slurm",
-            "--shards",
-            "2",
-        ])
         .assert()
         .code(2)
         .stderr(predicates::str::contains("invalid partition specified"));
