@@ -96,12 +96,6 @@ pub enum AnalysisError {
          (SceneAnswer::of(&Scene::from_problem(&problem)))"
     )]
     GapRange,
-    /// Occlusion with an active wrong-assumption guard (refused by validation too; see
-    /// docs/semantics.md §12): not analysed yet.
-    #[error(
-        "sensing.first_detection_gap with an active wrong-assumption guard is not analysed yet"
-    )]
-    OcclusionWithWrongAssumption,
     /// A search would pass its budget of analysed control periods.
     #[error(transparent)]
     OverBudget(#[from] crate::core::budget::OverBudget),
@@ -138,9 +132,6 @@ pub fn analyse(problem: &Problem) -> Result<Analysis, AnalysisError> {
 pub fn analyse_with(problem: &Problem, options: Options) -> Result<Analysis, AnalysisError> {
     if problem.environment.initial_gap.is_range() {
         return Err(AnalysisError::GapRange);
-    }
-    if problem.params::<Exact>().occlusion_unanalysed() {
-        return Err(AnalysisError::OcclusionWithWrongAssumption);
     }
     let dec = Decomposition::new(problem);
     let mut solved = 0;
@@ -411,8 +402,8 @@ fn extract_witness(
         let LpOutcome::Optimal { x, .. } = lp::solve(program, margin) else {
             continue;
         };
-        let (shift, speeds) = speeds_from_point(dec, piece, program, &x);
-        let Some(witness) = replay_witness(dec, *piece, shift, margin, speeds) else {
+        let (shift, speeds, first_seen) = speeds_from_point(dec, piece, program, &x);
+        let Some(witness) = replay_witness(dec, *piece, shift, margin, speeds, first_seen) else {
             continue;
         };
         let realised = if piece.has_objective() {
@@ -439,13 +430,14 @@ fn clamp(x: Exact, lo: &Exact, hi: &Exact) -> Exact {
     }
 }
 
-/// The full obstacle speed sequence for a solution point of a piece's program.
+/// The full obstacle speed sequence for a solution point of a piece's program, with its
+/// shift and, for an early twin (occlusion), the step at which the obstacle is first seen.
 pub(crate) fn speeds_from_point(
     dec: &Decomposition,
     piece: &Piece,
     program: &Program,
     x: &[f64],
-) -> (usize, Vec<f64>) {
+) -> (usize, Vec<f64>, Option<usize>) {
     let p = &dec.params;
     let m = dec.anchor(piece);
     let n = piece.brake.saturating_sub(p.L);
@@ -454,11 +446,21 @@ pub(crate) fn speeds_from_point(
     let shift = dec.shift_for(piece, &u);
     let m2 = m + shift;
     let mut speeds = Vec::with_capacity(n + shift + 32);
+    let mut first_seen = None;
     if m2 > 0 {
         let total = p.g0.clone() - dec.position(m2) - u.clone();
         speeds = if piece.early {
-            // Scale the fastest approach that respects the area (see fastest_approach).
-            let (fast, lowest) = dec.fastest_approach(m2);
+            // Scale the fastest approach that respects the area (see fastest_approach), or
+            // for an early twin the fastest first seen inside it (occlusion_schedule).
+            let (fast, lowest) = if piece.detected {
+                let Some((fast, lowest, seen)) = dec.detected_fastest_approach(m2) else {
+                    return (shift, speeds, None);
+                };
+                first_seen = Some(seen);
+                (fast, lowest)
+            } else {
+                dec.fastest_approach(m2)
+            };
             let span = p.g0.clone() - dec.position(m2) - lowest;
             let mut lambda = if span > Exact::ZERO {
                 total / span
@@ -466,7 +468,7 @@ pub(crate) fn speeds_from_point(
                 Exact::ZERO
             };
             let near_one = Exact::ONE - exact_float(1e-9);
-            if lambda > near_one {
+            if lambda > near_one && !piece.detected {
                 // λ = 1 ends a step exactly on ρ at a speed above V_a: stay just outside.
                 lambda = near_one;
             }
@@ -481,7 +483,7 @@ pub(crate) fn speeds_from_point(
         let w = clamp(exact_float(x[j]), &var.lower.value, &var.upper.value);
         speeds.push(quantised(&w));
     }
-    (shift, speeds)
+    (shift, speeds, first_seen)
 }
 
 /// The witness of `speeds` for `piece` shifted by `shift`, if its replay is a run of that
@@ -492,6 +494,7 @@ fn replay_witness(
     shift: usize,
     margin: f64,
     mut speeds: Vec<f64>,
+    first_seen: Option<usize>,
 ) -> Option<Witness> {
     let params = &dec.params;
     // A pass-through runs on past its collision to the step T at which the robot sees the
@@ -502,7 +505,7 @@ fn replay_witness(
         piece.brake + shift + 1
     };
     speeds.resize(max_steps, quantised(&params.W));
-    let aim = crate::proof::verdict::aim(&piece, shift);
+    let aim = crate::proof::verdict::aim(&piece, shift, first_seen);
     let replay = simulate::replay_reacting_at(params, &speeds, aim, max_steps, false);
     replay_realises(params, &replay, &piece, shift).ok()?;
     speeds.truncate(replay.periods());
@@ -512,6 +515,7 @@ fn replay_witness(
         shift,
         margin,
         robot_modes: mode_segments(replay.run.records.iter().map(|r| r.robot.mode)),
+        first_seen,
         obstacle_speeds: speeds,
         collides: replay.collided(),
         separation: replay.rest_gap().as_ref().map(f64_at_most),

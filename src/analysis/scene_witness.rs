@@ -76,7 +76,9 @@ fn piece_speeds(
     let LpOutcome::Optimal { x, .. } = lp::solve(&program, margin) else {
         return None;
     };
-    Some(speeds_from_point(d, piece, &program, &x))
+    // (Scenes observe every obstacle from the start: no sighting to carry.)
+    let (shift, speeds, _) = speeds_from_point(d, piece, &program, &x);
+    Some((shift, speeds))
 }
 
 /// One witness attempt for obstacle `a`'s piece at one margin.

@@ -41,12 +41,6 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, Invalid> {
              a range is certified by a scene search certificate",
         );
     }
-    if cert.problem.params::<Exact>().occlusion_unanalysed() {
-        return invalid(
-            "the problem hides obstacles (first_detection_gap) with an active wrong-assumption \
-             guard, which no certificate covers yet",
-        );
-    }
     let dec = Decomposition::new(&cert.problem);
     let lower = check_proofs(cert, &dec)?;
     check_claims(cert, lower.as_ref())?;
@@ -202,6 +196,12 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
             "the witness's piece ({}) is not a piece of the problem",
             w.piece.describe()
         ));
+    }
+    if w.first_seen.is_some() && !(w.piece.detected && w.piece.early) {
+        return invalid(
+            "the witness states first_seen, but only a piece first seen in the area by its \
+             early entry has one to choose",
+        );
     }
     let replay = simulate::replay_reacting_at(
         params,

@@ -8,6 +8,7 @@ pub mod certificate;
 pub mod certificate_file;
 pub mod check;
 pub mod json_read;
+pub mod occlusion_schedule;
 pub mod premise;
 pub mod program;
 pub mod region_check;

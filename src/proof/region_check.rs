@@ -71,7 +71,8 @@ pub fn refusal(problem: &Problem, whole: &ParamBox) -> Option<String> {
         if dec.wrong_assumption_active() {
             return Some(
                 "sensing.first_detection_gap with a wrong-assumption guard active somewhere in \
-                 the box is not analysed yet"
+                 the box is not covered by region certificates yet (certify analyses each \
+                 point)"
                     .into(),
             );
         }
@@ -372,7 +373,7 @@ fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(
     let replay = simulate::replay_reacting_at(
         &params,
         &r.obstacle_speeds,
-        aim(&r.piece, r.shift),
+        aim(&r.piece, r.shift, None),
         r.obstacle_speeds.len(),
         true,
     );

@@ -149,7 +149,11 @@ impl Piece {
             s += &format!(", in the area {when} step {e}");
         }
         if self.detected {
-            s += ", first seen then";
+            s += if self.entry.is_some() {
+                ", first seen in the area"
+            } else {
+                ", first seen then"
+            };
         }
         if self.merged {
             s += " (and every later shift)";
@@ -194,6 +198,9 @@ pub struct Decomposition {
     pub(crate) widest_area: Params<Exact>,
     /// Whether the wrong-assumption guard can fire somewhere (computed once).
     pub(crate) guard_active: bool,
+    /// With occlusion and the guard active: the gap index j_c around which an early twin's
+    /// sighting reaches the lowest gap ([`crate::proof::occlusion_schedule`]; computed once).
+    pub(crate) sighting_cross: usize,
 }
 
 /// Time and distance the robot needs to stop when it brakes from speed `v`: v/b_min and
@@ -268,6 +275,7 @@ impl Decomposition {
             pieces: Vec::new(),
             region,
             guard_active: false,
+            sighting_cross: 0,
         };
         d.widest_area = d.widest_area_corner();
         d.guard_active = d.guard_active_somewhere();
@@ -288,6 +296,12 @@ impl Decomposition {
         }
         if d.params.d_det.is_some() {
             d.list_detected_pieces(merge_at);
+            if d.wrong_assumption_active() {
+                // (Region certificates refuse this combination before they get here.)
+                debug_assert!(d.region.is_none());
+                d.sighting_cross = d.find_sighting_cross();
+                d.list_detected_in_area_pieces(merge_at);
+            }
         }
         d
     }
@@ -295,21 +309,25 @@ impl Decomposition {
     /// Occlusion's pieces: hidden at every step before T, first seen at T at a true gap
     /// ≥ d_det, and the guard fires there. (Pieces first seen *before* T are the ones
     /// above: their rows from the first sighting on are the visible schedule's, and a
-    /// visible start is the weaker constraint; see docs/semantics.md §12.)
+    /// visible start is the weaker constraint; see docs/semantics.md §12. With the
+    /// wrong-assumption guard active, an obstacle first seen inside the area before T has
+    /// its own pieces too: [`crate::proof::occlusion_schedule`].)
     fn list_detected_pieces(&mut self, merge_at: Option<usize>) {
         // First seen already passed (a true gap in [d_det, σ_g] seen ≤ 0) is a pass-through
-        // no visible piece holds: its earlier rows are hidden. (The wrong-assumption guard
-        // with occlusion is refused by validation: a hidden obstacle inside the area is not
-        // bound by V_a, which the in-area pieces assume.)
-        let endings = [Ending::Danger, Ending::PassThrough];
+        // no visible piece holds: its earlier rows are hidden.
+        let endings: &[Ending] = if self.wrong_assumption_active() {
+            &[Ending::Danger, Ending::WrongAssumption, Ending::PassThrough]
+        } else {
+            &[Ending::Danger, Ending::PassThrough]
+        };
         let l = self.params.L;
         let last = merge_at.unwrap_or(self.last_brake);
         let before = self.pieces.len();
         for t in self.first_brake.max(l)..last {
-            self.push_endings(None, t, false, &endings);
+            self.push_endings(None, t, false, endings);
         }
         if let Some(t) = merge_at {
-            self.push_endings(None, t, true, &endings);
+            self.push_endings(None, t, true, endings);
         }
         for piece in &mut self.pieces[before..] {
             piece.detected = true;
@@ -433,7 +451,7 @@ impl Decomposition {
     /// Entries of brake step t at t and at t−1. Individual pieces need their entry at or
     /// after the first possible brake step `first`; a merged piece stands for all later
     /// shifts, so it keeps all of its entries.
-    fn recent_entries(&self, first: usize, t: usize, merged: bool) -> Vec<usize> {
+    pub(crate) fn recent_entries(&self, first: usize, t: usize, merged: bool) -> Vec<usize> {
         let l = self.params.L;
         let mut out = vec![t];
         if (merged || t > first) && t > l && self.in_area_possible(t - 1, t) {
@@ -472,7 +490,7 @@ impl Decomposition {
     }
 
     /// Whether brake step t has an early piece (entry at t−2 or before).
-    fn early_entry_possible(&self, first: usize, t: usize, merged: bool) -> bool {
+    pub(crate) fn early_entry_possible(&self, first: usize, t: usize, merged: bool) -> bool {
         let l = self.params.L;
         (merged || t > first + 1) && t > l + 1 && self.in_area_possible(t - 2, t)
     }
@@ -480,7 +498,11 @@ impl Decomposition {
     /// The first index k ≥ 0 where `reached(k)` holds, for a predicate that is monotone in k
     /// and, past the cruise onset, holds from `cruise_from + ceil(steps)` on (`steps` is the
     /// exact number of cruise steps still needed, as computed from the cruise state).
-    fn first_index(&self, reached: impl Fn(usize, &Self) -> bool, steps: Exact) -> usize {
+    pub(crate) fn first_index(
+        &self,
+        reached: impl Fn(usize, &Self) -> bool,
+        steps: Exact,
+    ) -> usize {
         for k in 0..=self.cruise_from {
             if reached(k, self) {
                 return k;
@@ -509,12 +531,21 @@ impl Decomposition {
         }
     }
 
-    fn push_entry(&mut self, e: usize, t: usize, merged: bool, early: bool, endings: &[Ending]) {
+    /// Pushes the pieces of entry e and brake step t; returns where they sit in `pieces`.
+    pub(crate) fn push_entry(
+        &mut self,
+        e: usize,
+        t: usize,
+        merged: bool,
+        early: bool,
+        endings: &[Ending],
+    ) -> std::ops::Range<usize> {
         let before = self.pieces.len();
         self.push_endings(Some(e), t, merged, endings);
         for piece in &mut self.pieces[before..] {
             piece.early = early;
         }
+        before..self.pieces.len()
     }
 
     fn push_endings(&mut self, entry: Option<usize>, t: usize, merged: bool, endings: &[Ending]) {
@@ -558,7 +589,7 @@ impl Decomposition {
     /// The anchor index m of a piece: the first gap index any of its rows mentions.
     pub(crate) fn anchor(&self, piece: &Piece) -> usize {
         let l = self.params.L;
-        if piece.detected {
+        if piece.detected && piece.entry.is_none() {
             // Only the sighting's gap g_n, and for a wrong assumption the speed before it.
             let n = piece.brake - l;
             return if piece.ending == Ending::WrongAssumption {
@@ -569,6 +600,7 @@ impl Decomposition {
         }
         match piece.entry {
             // An early piece's rows start at o_E ≤ ρ, its own entry's at o_{E−1} > ρ.
+            // (A detected twin's rows start at its sighting's speed w_{E−1−L}: the same.)
             Some(e) if piece.early => e - l,
             Some(e) if e > l => e - 1 - l,
             None if piece.brake > l => piece.brake - 1 - l,
@@ -601,13 +633,27 @@ impl Decomposition {
         let mut vars = self.variables(&s, piece, m, n);
         let mut rows = Vec::new();
         let g_n = self.gap(m, n, vars.len());
-        match (&s.d_det, piece.detected) {
-            (Some(d_det), true) => at_least(
+        match (&s.d_det, piece.detected, piece.entry) {
+            (Some(d_det), true, None) => at_least(
                 &mut rows,
                 format!("g[{n}] >= d_det (first seen)"),
                 &g_n,
                 d_det.clone(),
             ),
+            (Some(d_det), true, Some(e)) => {
+                // A detected twin: the in-area rows, first seen at E instead of outside at
+                // E−1 (an early twin's sighting is in u's box).
+                self.schedule_rows(&s, piece, m, &mut vars, &mut rows);
+                if !piece.early {
+                    let k = e - self.params.L;
+                    at_least(
+                        &mut rows,
+                        format!("g[{k}] >= d_det (first seen)"),
+                        &self.gap(m, k, vars.len()),
+                        d_det.clone(),
+                    );
+                }
+            }
             _ => self.schedule_rows(&s, piece, m, &mut vars, &mut rows),
         }
         if piece.ending != Ending::Bystander {
@@ -632,6 +678,11 @@ impl Decomposition {
         let lo = if piece.merged {
             // The rows force g_n > −σ_g (the observation at T positive for some error).
             -s.sigma_g.clone()
+        } else if piece.early && piece.detected {
+            // First seen by the anchor, inside the area, its observed speeds ≤ V_a since.
+            self.detected_lowest_gap(s, m)
+                .expect("early twins are listed only where a sighting is possible")
+                .0
         } else if piece.early {
             // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
             self.early_lowest_gap(s, m)
@@ -698,7 +749,7 @@ impl Decomposition {
                 }
             }
             Some(e) => {
-                if e > l && !piece.early {
+                if e > l && !piece.early && !piece.detected {
                     above(
                         rows,
                         format!("o[{}] > rho", e - 1),

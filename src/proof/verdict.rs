@@ -66,6 +66,11 @@ pub struct Witness {
     /// The robot's mode over the run, as segments of periods (`check` holds them to the
     /// replay).
     pub robot_modes: Vec<ModeSegment>,
+    /// Occlusion, for a piece first seen inside the area at its early entry *or before*:
+    /// the period whose observation first shows the obstacle (hidden before it). Other
+    /// pieces fix it themselves ([`aim`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_seen: Option<usize>,
     /// The replay collides.
     pub collides: bool,
     /// Gap when the robot came to rest (None: it never stopped before colliding).
@@ -82,23 +87,25 @@ impl Witness {
     /// step; None for a pass-through, which never lets it): with noisy sensing the replay
     /// picks each observation's error by it ([`crate::core::simulate::run_reacting_at`]).
     pub fn react_at(&self) -> Option<usize> {
-        aim(&self.piece, self.shift).react_at
+        self.aim().react_at
     }
 
     /// What the environment aims at in its replay: [`Witness::react_at`], and for a piece
-    /// first seen at its brake step (occlusion) the obstacle hidden until then.
+    /// first seen late (occlusion) the obstacle hidden until then.
     pub fn aim(&self) -> crate::core::simulate::Aim {
-        aim(&self.piece, self.shift)
+        aim(&self.piece, self.shift, self.first_seen)
     }
 }
 
 /// What the environment aims at when it replays a behaviour of `piece` shifted by `shift`
 /// steps: it lets the robot react from the brake step (never, for a pass-through), and for a
-/// piece first seen at its brake step (occlusion) hides the obstacle until then.
-pub fn aim(piece: &Piece, shift: usize) -> crate::core::simulate::Aim {
+/// piece first seen late (occlusion) hides the obstacle until its sighting: `first_seen` if
+/// given, else the piece's entry (a detected twin) or brake step.
+pub fn aim(piece: &Piece, shift: usize, first_seen: Option<usize>) -> crate::core::simulate::Aim {
     let t = piece.brake + shift;
+    let sighting = || first_seen.unwrap_or_else(|| piece.entry.map_or(t, |e| e + shift));
     crate::core::simulate::Aim {
         react_at: piece.has_objective().then_some(t),
-        hidden_until: if piece.detected { t } else { 0 },
+        hidden_until: if piece.detected { sighting() } else { 0 },
     }
 }

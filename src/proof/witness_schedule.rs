@@ -81,7 +81,8 @@ impl RunSchedule {
 ///   pass-through never brakes and (exact observations) first sees the obstacle passed at T;
 /// - with an entry E (+ shift) and exact observations, the obstacle is first seen within ρ
 ///   at E, or by E for an early piece;
-/// - a detected piece (occlusion) is first seen at T;
+/// - a detected piece (occlusion) is first seen at T, at its entry (a detected twin), or
+///   by its entry (an early twin);
 /// - only a merged piece has a shift.
 ///
 /// Bystander pieces are compared by the scene check, which knows what made the robot brake.
@@ -146,13 +147,21 @@ pub fn realises(
             ));
         }
     }
-    if piece.detected && run.first_seen != Some(t) {
-        return Err(format!(
-            "the witness's piece says the obstacle is first seen at step {t}, but its replay \
-             first sees it at {}",
-            run.first_seen
-                .map_or("no step".to_string(), |k| format!("step {k}"))
-        ));
+    if piece.detected {
+        // Hidden until its brake step, its entry (a detected twin), or by its early entry.
+        let (k, by) = match piece.entry {
+            Some(e) => (e + shift, piece.early),
+            None => (t, false),
+        };
+        if !run.first_seen.is_some_and(|f| f == k || (by && f < k)) {
+            return Err(format!(
+                "the witness's piece says the obstacle is first seen {} step {k}, but its \
+                 replay first sees it at {}",
+                if by { "by" } else { "at" },
+                run.first_seen
+                    .map_or("no step".to_string(), |k| format!("step {k}"))
+            ));
+        }
     }
     Ok(())
 }
@@ -186,9 +195,10 @@ pub fn replay_realises(
     if piece.detected
         && let Some(d_det) = &params.d_det
     {
-        // Hidden until T, seen at T: the observation shows the true gap g_{T−L}.
-        let seen = (piece.brake + shift)
-            .checked_sub(params.L)
+        // Hidden until first seen at K: that observation shows the true gap g_{K−L}.
+        let seen = schedule
+            .first_seen
+            .and_then(|k| k.checked_sub(params.L))
             .and_then(|k| run.records.get(k));
         if seen.is_none_or(|r| r.gap.to_exact() < *d_det) {
             return Err("the witness's obstacle is first seen at a true gap below \

@@ -56,7 +56,7 @@ fn piece_realised_by(problem: &Problem, w: &Witness) -> (Piece, usize) {
             let replay = simulate::replay_reacting_at(
                 &dec.params,
                 &w.obstacle_speeds,
-                aim(p, *shift),
+                aim(p, *shift, None),
                 w.obstacle_speeds.len(),
                 false,
             );

@@ -169,13 +169,6 @@ impl<N: Scalar> Params<N> {
         self.wrong_assumption_brake && self.W.clone() + self.sigma_w.clone() > self.V_a
     }
 
-    /// Occlusion with an active wrong-assumption guard: not analysed yet (an obstacle hidden
-    /// inside the area is not bound by V_a there), so validation, `analyse` and `check`
-    /// refuse it.
-    pub fn occlusion_unanalysed(&self) -> bool {
-        self.d_det.is_some() && self.wrong_assumption_active()
-    }
-
     /// Whether observations may be off the truth (σ_g > 0 or σ_w > 0).
     pub fn noisy(&self) -> bool {
         self.sigma_g > N::zero() || self.sigma_w > N::zero()

@@ -43,7 +43,6 @@ impl Problem {
             .find_map(|spec| self.key_violation(spec, &numbers))
             .or_else(|| robot_violation(&self.robot))
             .or_else(|| self.gap_violation())
-            .or_else(|| self.occlusion_violation())
             .or_else(|| self.horizon_violation())
     }
 
@@ -60,25 +59,6 @@ impl Problem {
             .iter()
             .filter(|(k, _)| *k == spec.key)
             .find_map(|&(_, x)| number_violation(spec, x))
-    }
-
-    /// Occlusion together with an active wrong-assumption guard: an obstacle hidden inside
-    /// the reaction area is not bound by V_a there, which the analysis of that guard's
-    /// in-area steps assumes; refused until it is analysed.
-    fn occlusion_violation(&self) -> Option<Violation> {
-        let d_det = self.first_detection_gap()?;
-        // Decided in exact decimals, as the analysis decides it.
-        let refused = self
-            .params::<crate::core::num::Exact>()
-            .occlusion_unanalysed();
-        refused.then(|| Violation {
-            key: "sensing.first_detection_gap",
-            value: show_number(d_det),
-            reason: "occlusion is not analysed yet together with an active wrong-assumption \
-                     guard (wrong_assumption_brake = true and obstacle_speed + speed_noise > \
-                     assumed_obstacle_speed)"
-                .into(),
-        })
     }
 
     /// A range the wrong way round, or a robot that would start in collision.
