@@ -3,10 +3,12 @@
 //!
 //! A blocked read cannot be woken portably, so a thread reads the input in chunks and hands
 //! them over a channel; a second thread waits for SIGINT or SIGTERM and puts an end marker on
-//! the same channel. The monitor's reader sees the end either way.
+//! the same channel. The monitor's reader sees the end either way. Chunks it has read are
+//! sent back and filled again, so a long trace costs no allocation (nor the zeroing and
+//! page faults of fresh memory) per chunk.
 
 use std::io::{self, Read};
-use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::sync::mpsc::{Receiver, Sender, SyncSender, channel, sync_channel};
 use std::thread;
 
 use signal_hook::consts::{SIGINT, SIGTERM};
@@ -25,6 +27,8 @@ enum Message {
 /// The input, read on a thread, ending early on SIGINT or SIGTERM.
 pub struct Interruptible {
     messages: Receiver<Message>,
+    /// Chunks read, back to the reading thread.
+    spent: Sender<Vec<u8>>,
     chunk: Vec<u8>,
     at: usize,
     ended: bool,
@@ -36,9 +40,11 @@ impl Interruptible {
     pub fn new(mut input: Box<dyn Read + Send>) -> io::Result<Interruptible> {
         let (tx, messages) = sync_channel(4);
         let data: SyncSender<Message> = tx.clone();
+        let (spent, recycled) = channel::<Vec<u8>>();
         thread::spawn(move || {
             loop {
-                let mut buf = vec![0; CHUNK];
+                let mut buf = recycled.try_recv().unwrap_or_default();
+                buf.resize(CHUNK, 0);
                 let message = match input.read(&mut buf) {
                     Ok(0) => Message::End,
                     Ok(n) => {
@@ -62,6 +68,7 @@ impl Interruptible {
         });
         Ok(Interruptible {
             messages,
+            spent,
             chunk: Vec::new(),
             at: 0,
             ended: false,
@@ -90,7 +97,9 @@ impl Read for Interruptible {
             }
             match self.messages.recv() {
                 Ok(Message::Data(chunk)) => {
-                    self.chunk = chunk;
+                    let done = std::mem::replace(&mut self.chunk, chunk);
+                    // The reading thread may have ended; then the chunk is just dropped.
+                    let _ = self.spent.send(done);
                     self.at = 0;
                 }
                 Ok(Message::End) | Err(_) => self.ended = true,

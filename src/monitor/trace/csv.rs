@@ -17,7 +17,7 @@ pub struct Columns {
 
 /// What the CSV reader does with a column.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Col {
+pub(super) enum Col {
     /// A number, kept at this [`num_slot`].
     Number(u8),
     /// `robot_mode`.
@@ -95,6 +95,12 @@ impl Columns {
     /// Whether the trace has this column.
     pub fn has(&self, field: Field) -> bool {
         self.slots.contains(&Some(field))
+    }
+
+    /// What to do with each column, in order.
+    #[inline]
+    pub(super) fn plan(&self) -> &[Col] {
+        &self.plan
     }
 }
 
@@ -215,7 +221,7 @@ fn word_at(b: &[u8], at: usize) -> u64 {
 impl Repeat {
     /// The value and length of the number at `line[p..]` if it is the same text as before.
     #[inline]
-    fn get(&self, line: &[u8], p: usize) -> Option<(f64, usize)> {
+    pub(super) fn get(&self, line: &[u8], p: usize) -> Option<(f64, usize)> {
         let end = p + self.len;
         if self.len == 0 || end > line.len() || !matches!(line.get(end), None | Some(b',')) {
             return None;
@@ -225,7 +231,7 @@ impl Repeat {
     }
 
     #[inline]
-    fn set(&mut self, text: &[u8], value: f64) {
+    pub(super) fn set(&mut self, text: &[u8], value: f64) {
         if text.len() > 24 {
             self.len = 0;
             return;

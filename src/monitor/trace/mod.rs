@@ -6,6 +6,7 @@
 //! mapped to the monitor's integer ids once per new obstacle ([`Ids`]).
 //!
 //! One idea per file: `number.rs` (numbers), `csv.rs` (the header's columns and CSV rows),
+//! `fast.rs` (the fast path for CSV rows in the usual form, which falls back to `csv.rs`),
 //! `jsonl.rs` (JSON Lines), `ids.rs` (obstacle ids), `lines.rs` (splitting a byte stream into
 //! lines: every line-end convention, bounded memory, no NUL bytes); this file holds the [`Decoder`] that
 //! turns a line of either format into a [`Sample`].
@@ -40,6 +41,7 @@ use super::{Detail, Field, Lanes, RobotSample, Sample};
 use crate::core::semantics::Mode;
 
 mod csv;
+mod fast;
 mod ids;
 mod jsonl;
 mod lines;
@@ -47,6 +49,7 @@ mod number;
 
 pub use csv::Columns;
 use csv::{Repeat, read_csv};
+use fast::{Prefix, read_plain};
 pub use ids::Ids;
 use jsonl::read_json_into;
 pub use lines::{Line, Lines, MAX_LINE};
@@ -153,6 +156,8 @@ pub struct Decoder {
     key: Vec<u8>,
     /// The last text and value of `t`, `robot_x`, `robot_v`.
     repeat: [Repeat; 3],
+    /// The robot's columns of the last CSV row read on the fast path.
+    prefix: Prefix,
     /// The lanes of the last sample.
     lanes: Lanes,
 }
@@ -256,6 +261,7 @@ impl Decoder {
             id_buf: Vec::new(),
             key: Vec::new(),
             repeat: [Repeat::default(); 3],
+            prefix: Prefix::default(),
             lanes: Lanes::UNKNOWN,
         }
     }
@@ -286,7 +292,15 @@ impl Decoder {
     }
 
     /// Decodes one line (without its line break; a trailing `\r` is ignored).
+    #[inline]
     pub fn decode<'l>(&mut self, line: &'l [u8]) -> Decoded<'l> {
+        self.decode_with(line, true)
+    }
+
+    /// [`Decoder::decode`]; a CSV row is tried on the fast path first when `fast` (the
+    /// tests compare the two).
+    #[inline]
+    fn decode_with<'l>(&mut self, line: &'l [u8], fast: bool) -> Decoded<'l> {
         let line = match line.last() {
             Some(b'\r') => &line[..line.len() - 1],
             _ => line,
@@ -298,14 +312,30 @@ impl Decoder {
         let mut raw = Raw::EMPTY;
         let read = match format {
             Format::Csv => match &self.header {
-                Header::Ready(columns) => read_csv(
-                    columns,
-                    line,
-                    &mut self.scratch,
-                    &mut self.id_buf,
-                    &mut self.repeat,
-                    &mut raw,
-                ),
+                Header::Ready(columns)
+                    if fast
+                        && read_plain(
+                            columns.plan(),
+                            line,
+                            &mut self.prefix,
+                            &mut self.repeat,
+                            &mut raw,
+                        ) =>
+                {
+                    Ok(())
+                }
+                Header::Ready(columns) => {
+                    // What the fast path read, if it tried, is read again from scratch.
+                    raw = Raw::EMPTY;
+                    read_csv(
+                        columns,
+                        line,
+                        &mut self.scratch,
+                        &mut self.id_buf,
+                        &mut self.repeat,
+                        &mut raw,
+                    )
+                }
                 Header::Broken => Err(Detail::NoHeader),
                 Header::Pending => return self.read_header(line),
             },
