@@ -175,6 +175,24 @@ fn with_occlusion_the_explorer_is_the_exhaustive_search() {
     occlusion_agrees_with_the_exhaustive_search(9);
 }
 
+/// Latency 2 (two pending observations in the key), noise and occlusion: the exhaustive
+/// search's answer (slower).
+#[test]
+#[ignore]
+fn at_latency_two_the_explorer_is_the_exhaustive_search() {
+    let sensings = [(0.05, 0.06, None), (0.03, 0.0, Some(0.5))];
+    let mut collisions = 0;
+    for p in small_sensing(&[DangerRule::Kinematic], &[2], &[0.8], &sensings) {
+        let speeds = three(&p);
+        let e = explore_with(&p, &speeds);
+        let (least, collides) = exhaustive(&p, &speeds);
+        same_answer(&e, least, collides, &p.to_toml_string());
+        assert_replays(&p, &e);
+        collisions += usize::from(collides);
+    }
+    assert!(collisions > 0);
+}
+
 /// Every other problem of the noise test with noise, every third with occlusion (slower).
 #[test]
 #[ignore]
