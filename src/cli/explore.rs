@@ -23,7 +23,7 @@ use safereach::core::semantics::Mode;
 use safereach::core::simulate::TraceRow;
 use safereach::crosscheck::explore::scene::DEFAULT_SCENE_MAX_STATES;
 use safereach::crosscheck::explore::{
-    self, Exploration, ExploreVerdict, Options, SpeedSet, show_exact,
+    self, Exploration, ExploreVerdict, FiniteModel, Options, SpeedSet, show_exact,
 };
 use safereach::crosscheck::uppaal::{self, GridExploration};
 
@@ -56,6 +56,11 @@ pub struct ExploreArgs {
     /// state is large, and the state limit is lowered to what fits.
     #[arg(long, value_name = "MIB")]
     max_memory: Option<u64>,
+    /// Initial gaps explored in a range `environment.initial_gap = [min, max]`: N evenly
+    /// spaced starts, both ends included (default 5; N >= 2). The environment picks one,
+    /// like a speed: the exploration covers exactly these. Single-obstacle problems only.
+    #[arg(long, value_name = "N")]
+    starts: Option<usize>,
     /// Print JSON (verdict, states, min_separation, path, ...).
     #[arg(long)]
     json: bool,
@@ -80,9 +85,22 @@ const DEFAULT_SPEEDS: &str = "5";
 
 /// Runs `safereach explore`: exit 0 safe, 1 collision, 3 inconclusive.
 pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
-    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+    // The explorer takes a range of initial gaps as a finite set of starts; the grid
+    // explorer, like the UPPAAL export, explores it as the scene it is.
+    let input = if args.grid {
+        input::problem_or_scene(&args.problem, &args.sets)?
+    } else {
+        input::problem_with_range_or_scene(&args.problem, &args.sets)?
+    };
+    let problem = match input {
         Input::Problem(problem) => problem,
         Input::Scene(scene) => {
+            if args.starts.is_some() {
+                anyhow::bail!(
+                    "--starts applies to single-obstacle problems; a scene explores both ends \
+                     of every obstacle's position range"
+                );
+            }
             let options = Options {
                 max_states: args.max_states.unwrap_or(DEFAULT_SCENE_MAX_STATES),
                 max_memory: memory(args.max_memory)?,
@@ -124,7 +142,9 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
         }
         return run_grid(&problem, speeds, &options, args.json, out);
     }
-    let result = explore::explore(&problem, speeds, &options)?;
+    let model = FiniteModel::new(&problem, speeds)
+        .with_starts(args.starts.unwrap_or(explore::DEFAULT_STARTS))?;
+    let result = explore::explore_model(&model, &options)?;
     let witness = result.counterexample.as_ref().or(result.closest.as_ref());
     if let (Some(path), Some(w)) = (&args.trace, witness) {
         write_file(path, trace_csv(&w.trace, "0").as_bytes())?;
@@ -148,6 +168,10 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
 fn path_json(path: &explore::Path) -> Value {
     json!({
         "periods": path.periods(),
+        "start": path.start.to_f64().value(),
+        "start_exact": show_exact(&path.start),
+        "first_seen_period": path.first_seen,
+        "errors_let_guard_fire": path.reacts,
         "obstacle_speeds": path.speeds.iter().map(|s| s.to_f64().value()).collect::<Vec<_>>(),
         "obstacle_speeds_exact": path.speeds.iter().map(show_exact).collect::<Vec<_>>(),
         "collides": path.run.outcome.collided,
@@ -191,6 +215,8 @@ fn to_json(problem: &Problem, result: &Exploration, options: &Options) -> Value 
         "depth": result.depth,
         "speeds": result.speeds.speeds().iter().map(|s| s.to_f64().value()).collect::<Vec<_>>(),
         "speeds_exact": result.speeds.speeds().iter().map(show_exact).collect::<Vec<_>>(),
+        "starts": result.starts.iter().map(|s| s.to_f64().value()).collect::<Vec<_>>(),
+        "starts_exact": result.starts.iter().map(show_exact).collect::<Vec<_>>(),
         "property": "always: never moving with gap <= clearance",
         "min_separation": if result.never_stops { None } else { result.min_separation.as_ref().map(|s| s.to_f64().value()) },
         "min_separation_exact": if result.never_stops { None } else { result.min_separation.as_ref().map(show_exact) },
@@ -237,6 +263,13 @@ fn summary(
         result.speeds,
         result.speeds.len()
     );
+    if result.starts.len() > 1 {
+        let xs: Vec<String> = result.starts.iter().map(show_exact).collect();
+        s += &format!(
+            "  initial gaps {{{}}} m (one init state each)\n",
+            xs.join(", ")
+        );
+    }
     s += &format!(
         "  states {} ({} transitions, longest path {} periods){}\n",
         result.states,
@@ -280,12 +313,14 @@ fn summary(
             "    obstacle speeds per period: {}\n",
             speeds_rle(&c.speeds)
         );
+        s += &choices(problem, result, c);
     } else if let Some(c) = &result.closest {
         s += &format!(
             "  closest approach ({} periods): obstacle speeds per period: {}\n",
             c.periods(),
             speeds_rle(&c.speeds)
         );
+        s += &choices(problem, result, c);
     }
     if let Some(path) = trace {
         let what = if result.counterexample.is_some() {
@@ -296,6 +331,37 @@ fn summary(
             "nothing (no path to write)"
         };
         s += &format!("  trace: {what} written to {}\n", path.display());
+    }
+    s
+}
+
+/// The path's other choices, where the problem leaves any: its start in a range, when a
+/// hidden obstacle was first seen, and (with noise) where an error let the guard fire.
+fn choices(problem: &Problem, result: &Exploration, path: &explore::Path) -> String {
+    let mut s = String::new();
+    if result.starts.len() > 1 {
+        s += &format!("    initial gap {} m\n", show_exact(&path.start));
+    }
+    let p = problem.params::<Exact>();
+    if p.d_det.is_some() {
+        s += &match path.first_seen {
+            Some(k) => format!("    obstacle first seen at the start of period {k}\n"),
+            None => "    obstacle hidden throughout\n".into(),
+        };
+    }
+    if p.noisy() {
+        let fire: Vec<String> = (0..path.periods())
+            .filter(|&k| path.reacts[k])
+            .map(|k| k.to_string())
+            .collect();
+        s += &format!(
+            "    observation errors keep the guard quiet{}\n",
+            if fire.is_empty() {
+                String::new()
+            } else {
+                format!(" except in period {} (they let it fire)", fire.join(", "))
+            }
+        );
     }
     s
 }

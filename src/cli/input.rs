@@ -26,12 +26,20 @@ pub enum Input {
 /// reader's for a file in scene form (`[scene]` or `[[obstacle]]`), else the problem
 /// reader's, so problem files keep today's messages.
 pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
-    let problem_error = match Problem::load_with_overrides(path, sets) {
+    Ok(match problem_with_range_or_scene(path, sets)? {
         // A range of initial gaps is answered by the scene engines: the exact run search
         // covers every start (see `AnalysisError::GapRange`).
-        Ok(p) if p.environment.initial_gap.is_range() => {
-            return Ok(Input::Scene(Scene::from_problem(&p)));
+        Input::Problem(p) if p.environment.initial_gap.is_range() => {
+            Input::Scene(Scene::from_problem(&p))
         }
+        input => input,
+    })
+}
+
+/// As [`problem_or_scene`], but a problem with a range of initial gaps stays a problem
+/// (the explorer takes a finite set of starts in it).
+pub fn problem_with_range_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
+    let problem_error = match Problem::load_with_overrides(path, sets) {
         Ok(p) => return Ok(Input::Problem(p)),
         Err(e) => e,
     };

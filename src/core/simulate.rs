@@ -92,6 +92,39 @@ pub fn run_reacting_at<N: Scalar>(
     let react_at = aim.react_at;
     let mut world = World::new(params);
     world.hide_until(aim.hidden_until);
+    run_world(
+        world,
+        |k| (speed(k), react_at.is_some_and(|t| k >= t)),
+        max_steps,
+        stop_at_collision,
+    )
+}
+
+/// [`run`] from the initial gap `start` with the environment's choices period by period:
+/// `choose(k)` is the obstacle's speed in period k and the aim of that period's observation
+/// error (let the guard fire, else keep it quiet, as far as the noise allows:
+/// [`World::step_with`]); the obstacle is hidden before period `hidden_until`. The
+/// explorer's paths replay so, one choice per period.
+pub fn run_choosing<N: Scalar>(
+    params: Params<N>,
+    start: N,
+    choose: impl FnMut(usize) -> (N, bool),
+    hidden_until: usize,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<N> {
+    let mut world = World::with_gap(params, start);
+    world.hide_until(hidden_until);
+    run_world(world, choose, max_steps, stop_at_collision)
+}
+
+/// Runs `world` with `choose(k)` = (speed, error aim) in period k (see [`run_choosing`]).
+fn run_world<N: Scalar>(
+    mut world: World<N>,
+    mut choose: impl FnMut(usize) -> (N, bool),
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<N> {
     let mut records = Vec::new();
     let mut outcome = RunOutcome {
         collided: false,
@@ -100,8 +133,8 @@ pub fn run_reacting_at<N: Scalar>(
         min_moving_gap: None,
     };
     while world.k() < max_steps && !world.stopped() {
-        let k = world.k();
-        let rec = world.step_with(speed(k), react_at.is_some_and(|t| k >= t));
+        let (w, react) = choose(world.k());
+        let rec = world.step_with(w, react);
         if let Some(reason) = rec.brake {
             outcome.brake = Some((rec.k, reason));
         }

@@ -103,14 +103,9 @@ pub(crate) struct Reached<A> {
 }
 
 impl<A: Copy> Reached<A> {
-    /// The actions of the path by which `node` was first reached, from its init state: a
-    /// shortest one.
-    pub(crate) fn path_to(&self, node: NodeId) -> Vec<A> {
-        self.rooted_path_to(node).1
-    }
-
-    /// As [`Reached::path_to`], with the id of the init state the path starts from (init
-    /// states are numbered in the order given, repeated keys left out).
+    /// The actions of the path by which `node` was first reached (a shortest one), with
+    /// the id of the init state it starts from (init states are numbered in the order
+    /// given, repeated keys left out).
     pub(crate) fn rooted_path_to(&self, node: NodeId) -> (NodeId, Vec<A>) {
         let mut actions = Vec::new();
         let mut id = node as usize;
@@ -200,9 +195,9 @@ mod tests {
     fn paths_are_shortest_and_read_back_from_the_parents() {
         let (reached, order) = numbers(10, usize::MAX);
         let id = |x: u32| order.iter().position(|&y| y == x).unwrap() as NodeId;
-        assert_eq!(reached.path_to(id(1)), Vec::<char>::new());
-        assert_eq!(reached.path_to(id(10)), ['d', 'd', 's', 'd']);
-        assert_eq!(reached.path_to(id(7)), ['d', 's', 'd', 's']);
+        assert_eq!(reached.rooted_path_to(id(1)).1, Vec::<char>::new());
+        assert_eq!(reached.rooted_path_to(id(10)).1, ['d', 'd', 's', 'd']);
+        assert_eq!(reached.rooted_path_to(id(7)).1, ['d', 's', 'd', 's']);
     }
 
     #[test]

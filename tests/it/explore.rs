@@ -720,11 +720,15 @@ fn terminal_states_have_no_actions() {
     let init = model.init_states();
     assert_eq!(init.len(), 1);
     assert_eq!(model.status(&init[0]), Status::Running);
-    assert_eq!(model.actions(&init[0]), 0..3);
+    // One choice per speed: without noise or occlusion the environment chooses nothing else.
+    let speeds_of = |s| model.actions(s).iter().map(|c| c.speed).collect::<Vec<_>>();
+    assert_eq!(speeds_of(&init[0]), [0, 1, 2]);
     // Drive the robot until it stops, with the obstacle at W.
     let mut s = init[0].clone();
     while model.status(&s) == Status::Running {
-        s = model.next_state(&s, 2).unwrap().next;
+        let at_w = *model.actions(&s).last().unwrap();
+        assert_eq!(at_w.speed, 2);
+        s = model.next_state(&s, at_w).unwrap().next;
     }
     assert_eq!(model.status(&s), Status::Stopped);
     assert!(model.actions(&s).is_empty());

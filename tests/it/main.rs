@@ -16,6 +16,7 @@ mod bounded_work_cli;
 mod certificate;
 mod cli;
 mod explore;
+mod explore_noise;
 mod fixtures;
 mod fuzz_findings;
 /// The fuzz targets' properties (fuzz/src/), shared with [`fuzz_findings`].

@@ -71,7 +71,7 @@ fn gap_noise_adds_itself_to_the_brake_on_entry_radius() {
 /// The least separation over every behaviour of the finite model: obstacle speeds from
 /// `speeds`, and in every period the environment's error aimed at letting the robot react
 /// or at keeping it quiet. Returns (least separation at rest, some behaviour collides).
-fn exhaustive(p: &Problem, speeds: &[Exact]) -> (Option<Exact>, bool) {
+pub(crate) fn exhaustive(p: &Problem, speeds: &[Exact]) -> (Option<Exact>, bool) {
     let params = p.params::<Exact>();
     let mut least: Option<Exact> = None;
     let mut collides = false;
@@ -142,14 +142,31 @@ fn s_star(a: &Analysis) -> Option<f64> {
 }
 
 /// Small problems close to the robot (short runs), noisy in both gap and speed.
-fn small_noisy() -> Vec<Problem> {
+pub(crate) fn small_noisy() -> Vec<Problem> {
+    let rules = [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area];
+    let sensings = [(0.03, 0.0, None), (0.05, 0.06, None)];
+    small_sensing(&rules, &[0, 1], &[0.45, 0.8], &sensings)
+        .into_iter()
+        .inspect(|p| p.validate("test").expect("a valid problem"))
+        .collect()
+}
+
+/// Small problems close to the robot (short runs) for every rule, latency and radius
+/// given, W below and above V_a with the wrong-assumption guard off and on, each with every
+/// `(σ_g, σ_w, d_det)` given (not validated).
+pub(crate) fn small_sensing(
+    rules: &[DangerRule],
+    latencies: &[u32],
+    rhos: &[f64],
+    sensings: &[(f64, f64, Option<f64>)],
+) -> Vec<Problem> {
     let mut out = Vec::new();
-    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
-        for latency in [0, 1] {
+    for &rule in rules {
+        for &latency in latencies {
             for (w, wab) in [(0.1, false), (0.25, true), (0.15, true)] {
-                for rho in [0.45, 0.8] {
-                    for (sg, sw) in [(0.03, 0.0), (0.05, 0.06)] {
-                        let p = Spec {
+                for &rho in rhos {
+                    for &(sg, sw, d_det) in sensings {
+                        let mut p = Spec {
                             rule,
                             latency,
                             w,
@@ -159,7 +176,12 @@ fn small_noisy() -> Vec<Problem> {
                             ..Spec::small()
                         }
                         .build();
-                        out.push(noisy(p, sg, sw));
+                        p.sensing = Some(Sensing {
+                            gap_noise: Some(sg),
+                            speed_noise: Some(sw),
+                            first_detection_gap: d_det,
+                        });
+                        out.push(p);
                     }
                 }
             }

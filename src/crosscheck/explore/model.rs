@@ -1,25 +1,18 @@
 //! The finite model the explorer searches: its states, the exact keys that merge states with
 //! the same future (the module docs of `explore` say what a key leaves out and why that is
-//! exact), and its transitions through the step function, checked against the key's
-//! prediction at every step.
+//! exact), its choices (the obstacle's speed, and where sensing leaves it open, the
+//! observation error's aim and the first sighting of a hidden obstacle), and its
+//! transitions through the step function, checked against the key's prediction at every
+//! step.
 
 use std::collections::VecDeque;
 
+use super::observe::{Pending, Seen, Sight, SpeedSeen, classify, may_be_in_area, resolve};
+use super::starts::{DEFAULT_STARTS, starts};
 use super::{ExploreError, SpeedSet};
 use crate::core::model::{Params, Problem};
 use crate::core::num::Exact;
 use crate::core::semantics::{Mode, StepRecord, World, danger_distance};
-
-/// What the robot's guard will make of one future observation (see the module docs, 3).
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-enum Seen {
-    /// No guard can fire on it.
-    Quiet,
-    /// The guard fires on it (if the robot still accelerates or drives then).
-    Fires,
-    /// An observed gap in the area: fires iff gap ≤ d_coll(speed at that step).
-    Near(Exact),
-}
 
 /// A state of the finite model: the world as [`World::step`] runs it, plus the explorer's
 /// own account of the observations still to come (kept in step with the world's history
@@ -27,16 +20,24 @@ enum Seen {
 #[derive(Clone, Debug)]
 pub struct State {
     world: World<Exact>,
-    /// Verdicts of the observations at steps k, k+1, …, k+L−1 (while accelerating or driving).
-    pending: VecDeque<Seen>,
-    /// The last period's speed exceeded V_a (with the wrong-assumption guard on).
-    last_fast: bool,
+    /// The observations at steps k, k+1, …, k+L−1 (while accelerating or driving).
+    pending: VecDeque<Pending>,
+    /// What the last period's speed can be made to look like (the speed observed together
+    /// with the current gap).
+    last: SpeedSeen,
+    /// Occlusion: the obstacle has not been seen yet.
+    hidden: bool,
 }
 
 impl State {
     /// The world in this state.
     pub fn world(&self) -> &World<Exact> {
         &self.world
+    }
+
+    /// Whether the obstacle is still hidden (occlusion).
+    pub fn hidden(&self) -> bool {
+        self.hidden
     }
 }
 
@@ -52,8 +53,10 @@ enum KeyRepr {
         mode: Mode,
         speed: Exact,
         gap: Exact,
-        last_fast: bool,
+        last: SpeedSeen,
         pending: Box<[Seen]>,
+        /// While the obstacle is hidden: which pending observations may first show it.
+        hidden: Option<Box<[Sight]>>,
     },
     /// Braking: only gap and speed matter.
     Braking { speed: Exact, gap: Exact },
@@ -70,6 +73,22 @@ pub enum Status {
     Stopped,
     /// The robot accelerates or drives and no guard can ever fire again: it never brakes.
     NeverBrakes,
+    /// The obstacle is still hidden and no observation to come shows a true gap ≥ d_det:
+    /// no behaviour goes through this state (its first sighting came too late), so it and
+    /// the step into it are left out.
+    Lost,
+}
+
+/// One choice of the environment for one control period.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Choice {
+    /// Index of the obstacle's speed in the speed set.
+    pub speed: u16,
+    /// Occlusion: the hidden obstacle is first seen at this period's start.
+    pub show: bool,
+    /// The observation error lets the guard fire (else it keeps it quiet); where only one
+    /// is possible, that one. True exactly when the guard fires in this period.
+    pub react: bool,
 }
 
 /// One step of the model: the step function's record and the state it leads to.
@@ -81,17 +100,20 @@ pub struct Transition {
     pub next: State,
 }
 
-/// The finite model: a problem and the obstacle's speed set.
+/// The finite model: a problem, the obstacle's speed set and the starts explored.
 #[derive(Clone, Debug)]
 pub struct FiniteModel {
     params: Params<Exact>,
     speeds: SpeedSet,
+    /// The initial gaps explored: the problem's, or points of its range.
+    starts: Vec<Exact>,
     /// d_coll(v_max), the largest danger distance (None: infinite, the `area` rule).
     top_danger: Option<Exact>,
 }
 
 impl FiniteModel {
-    /// The model of a (validated) problem with the obstacle's speeds from `speeds`.
+    /// The model of a (validated) problem with the obstacle's speeds from `speeds` (and for
+    /// a range of initial gaps, [`DEFAULT_STARTS`] starts).
     pub fn new(problem: &Problem, speeds: SpeedSet) -> Self {
         Self::from_params(problem.params(), speeds)
     }
@@ -99,11 +121,20 @@ impl FiniteModel {
     /// As [`FiniteModel::new`], from exact parameters.
     pub fn from_params(params: Params<Exact>, speeds: SpeedSet) -> Self {
         let top_danger = danger_distance(&params, &params.v_max);
+        let starts = starts(&params, DEFAULT_STARTS).expect("the default count is valid");
         FiniteModel {
             params,
             speeds,
+            starts,
             top_danger,
         }
+    }
+
+    /// The same model with `n` evenly spaced starts over the range of initial gaps, both
+    /// ends included (n ≥ 2; a single initial gap is its only start whatever n).
+    pub fn with_starts(mut self, n: usize) -> Result<Self, ExploreError> {
+        self.starts = starts(&self.params, n)?;
+        Ok(self)
     }
 
     /// The problem's exact numbers.
@@ -116,13 +147,32 @@ impl FiniteModel {
         &self.speeds
     }
 
-    /// The init states: one, the world at t = 0.
+    /// The initial gaps explored, ascending.
+    pub fn starts(&self) -> &[Exact] {
+        &self.starts
+    }
+
+    /// The init states, one per start (in [`FiniteModel::starts`] order): the world at
+    /// t = 0, the obstacle hidden if it may be (occlusion). A start from which a hidden
+    /// obstacle can never be seen has no behaviour and is left out.
     pub fn init_states(&self) -> Vec<State> {
-        vec![State {
-            world: World::new(self.params.clone()),
-            pending: std::iter::repeat_n(Seen::Quiet, self.params.L).collect(),
-            last_fast: false,
-        }]
+        self.starts
+            .iter()
+            .map(|g| State {
+                world: World::with_gap(self.params.clone(), g.clone()),
+                pending: std::iter::repeat_n(
+                    Pending {
+                        seen: Seen::Quiet,
+                        sight: Sight::Nothing,
+                    },
+                    self.params.L,
+                )
+                .collect(),
+                last: SpeedSeen::NONE_YET,
+                hidden: self.params.d_det.is_some(),
+            })
+            .filter(|s| self.status(s) != Status::Lost)
+            .collect()
     }
 
     /// Whether `state` has successors.
@@ -130,8 +180,16 @@ impl FiniteModel {
         let w = &state.world;
         match w.robot().mode {
             Mode::Stop => Status::Stopped,
+            Mode::Accelerate | Mode::Drive if state.hidden => {
+                if self.sighting_left(state) {
+                    Status::Running
+                } else {
+                    Status::Lost
+                }
+            }
             Mode::Accelerate | Mode::Drive
-                if *w.gap() <= Exact::ZERO && state.pending.iter().all(|s| *s == Seen::Quiet) =>
+                if *w.gap() <= -self.params.sigma_g.clone()
+                    && state.pending.iter().all(|s| s.seen == Seen::Quiet) =>
             {
                 Status::NeverBrakes
             }
@@ -139,34 +197,110 @@ impl FiniteModel {
         }
     }
 
-    /// The actions of `state`, in their fixed order: indices into the speed set, ascending
-    /// speed; none for a terminal state.
-    pub fn actions(&self, state: &State) -> std::ops::Range<usize> {
-        match self.status(state) {
-            Status::Running => 0..self.speeds.len(),
-            _ => 0..0,
+    /// Whether some observation to come may be a hidden obstacle's first sighting: the
+    /// first one that exists (pending, or else the current gap) shows a true gap ≥ d_det.
+    fn sighting_left(&self, state: &State) -> bool {
+        match state.pending.iter().find(|s| s.sight != Sight::Nothing) {
+            Some(s) => s.sight == Sight::Far,
+            None => Sight::of(&self.params, state.world.gap()) == Sight::Far,
         }
     }
 
-    /// The state `action` leads to from `state`, through [`World::step`].
-    pub fn next_state(&self, state: &State, action: usize) -> Result<Transition, ExploreError> {
-        let p = &self.params;
-        let w = self.speeds.speeds()[action].clone();
-        let moving_before = matches!(state.world.robot().mode, Mode::Accelerate | Mode::Drive);
-        let predicted = if moving_before {
-            let v = &state.world.robot().speed;
-            Some(match state.pending.front() {
-                // L = 0: the robot sees the current gap with the last period's speed.
-                None => self.classify(state.world.gap(), state.last_fast, v) == Seen::Fires,
-                Some(Seen::Quiet) => false,
-                Some(Seen::Fires) => true,
-                Some(Seen::Near(gap)) => danger_distance(p, v).is_none_or(|d| *gap <= d),
-            })
+    /// `(fire, quiet)` for the observation at this step, if the obstacle is seen in it
+    /// (`show`: first seen now): what some error makes the guard do.
+    fn now(&self, state: &State, show: bool) -> (bool, bool) {
+        if state.hidden && !show {
+            return (false, true);
+        }
+        let v = &state.world.robot().speed;
+        match state.pending.front() {
+            Some(s) => resolve(&self.params, &s.seen, v),
+            // L = 0: the robot sees the current gap with the last period's speed.
+            None => {
+                let seen = classify(
+                    &self.params,
+                    state.world.gap(),
+                    state.last,
+                    v,
+                    self.top_danger.as_ref(),
+                );
+                resolve(&self.params, &seen, v)
+            }
+        }
+    }
+
+    /// Whether the hidden obstacle may be first seen at this step: an observation exists
+    /// and shows a true gap ≥ d_det.
+    fn may_show(&self, state: &State) -> bool {
+        state.hidden
+            && match state.pending.front() {
+                Some(s) => s.sight == Sight::Far,
+                None => Sight::of(&self.params, state.world.gap()) == Sight::Far,
+            }
+    }
+
+    /// The choices of `state`, in their fixed order: ascending speed, then hidden before
+    /// seen, then the error keeping the guard quiet before letting it fire; none for a
+    /// terminal state.
+    pub fn actions(&self, state: &State) -> Vec<Choice> {
+        if self.status(state) != Status::Running {
+            return Vec::new();
+        }
+        let moving = matches!(state.world.robot().mode, Mode::Accelerate | Mode::Drive);
+        let shows: &[bool] = if self.may_show(state) {
+            &[false, true]
         } else {
-            None
+            &[false]
         };
+        let mut aims = Vec::with_capacity(shows.len() * 2);
+        for &show in shows {
+            let (fire, quiet) = if moving {
+                self.now(state, show)
+            } else {
+                (false, true)
+            };
+            if quiet {
+                aims.push((show, false));
+            }
+            if fire {
+                aims.push((show, true));
+            }
+        }
+        (0..self.speeds.len() as u16)
+            .flat_map(|speed| {
+                aims.iter()
+                    .map(move |&(show, react)| Choice { speed, show, react })
+            })
+            .collect()
+    }
+
+    /// The state `choice` leads to from `state`, through [`World::step_with`].
+    ///
+    /// [`World::step_with`]: crate::core::semantics::World::step_with
+    pub fn next_state(&self, state: &State, choice: Choice) -> Result<Transition, ExploreError> {
+        let p = &self.params;
+        let w = self
+            .speeds
+            .speeds()
+            .get(usize::from(choice.speed))
+            .ok_or_else(|| ExploreError::Inconsistent("a speed outside the set".into()))?
+            .clone();
+        if choice.show && !self.may_show(state) {
+            return Err(ExploreError::Inconsistent(format!(
+                "at step {} the obstacle cannot be first seen",
+                state.world.k()
+            )));
+        }
+        let moving_before = matches!(state.world.robot().mode, Mode::Accelerate | Mode::Drive);
+        let predicted = moving_before.then(|| {
+            let (fire, quiet) = self.now(state, choice.show);
+            if choice.react { fire } else { !quiet }
+        });
         let mut world = state.world.clone();
-        let record = world.step(w.clone());
+        if state.hidden {
+            world.hide_until(if choice.show { world.k() } else { usize::MAX });
+        }
+        let record = world.step_with(w.clone(), choice.react);
         if let Some(fires) = predicted
             && fires != record.brake.is_some()
         {
@@ -177,47 +311,38 @@ impl FiniteModel {
                 if fires { "did not brake" } else { "braked" },
             )));
         }
-        let fast = p.wrong_assumption_brake && w > p.V_a;
         let next = match world.robot().mode {
             Mode::Accelerate | Mode::Drive => {
                 let mut pending = state.pending.clone();
                 if pending.pop_front().is_some() {
                     // The gap at this step's start, with the previous period's speed, is
                     // what the robot sees L periods from now.
-                    let seen = self.classify(&record.gap, state.last_fast, &world.robot().speed);
-                    pending.push_back(seen);
+                    pending.push_back(Pending {
+                        seen: classify(
+                            p,
+                            &record.gap,
+                            state.last,
+                            &world.robot().speed,
+                            self.top_danger.as_ref(),
+                        ),
+                        sight: Sight::of(p, &record.gap),
+                    });
                 }
                 State {
                     world,
                     pending,
-                    last_fast: fast,
+                    last: SpeedSeen::of(p, &w),
+                    hidden: state.hidden && !choice.show,
                 }
             }
             Mode::Brake | Mode::Stop | Mode::Idle => State {
                 world,
                 pending: VecDeque::new(),
-                last_fast: false,
+                last: SpeedSeen::NONE_YET,
+                hidden: false,
             },
         };
         Ok(Transition { record, next })
-    }
-
-    /// The verdict of observing `gap` with a speed that was above V_a iff `fast`, by a robot
-    /// whose speed is `v` now and will not fall before the observation is acted on.
-    fn classify(&self, gap: &Exact, fast: bool, v: &Exact) -> Seen {
-        let p = &self.params;
-        if *gap <= Exact::ZERO || *gap > p.rho {
-            return Seen::Quiet;
-        }
-        if fast {
-            return Seen::Fires;
-        }
-        match (danger_distance(p, v), &self.top_danger) {
-            (None, _) => Seen::Fires,
-            (Some(d), _) if *gap <= d => Seen::Fires,
-            (_, Some(top)) if gap > top => Seen::Quiet,
-            _ => Seen::Near(gap.clone()),
-        }
     }
 
     /// The key of `state` (see the module docs for why it is exact).
@@ -232,13 +357,21 @@ impl FiniteModel {
             },
             mode => {
                 let gap = w.gap().clone();
-                let in_area = gap > Exact::ZERO && gap <= self.params.rho;
+                // The last speed is observed only with the current gap.
+                let last = if may_be_in_area(&self.params, &gap) {
+                    state.last
+                } else {
+                    SpeedSeen::NONE_YET
+                };
                 KeyRepr::Moving {
                     mode,
                     speed: robot.speed.clone(),
-                    last_fast: state.last_fast && in_area,
+                    last,
                     gap,
-                    pending: state.pending.iter().cloned().collect(),
+                    pending: state.pending.iter().map(|s| s.seen.clone()).collect(),
+                    hidden: state
+                        .hidden
+                        .then(|| state.pending.iter().map(|s| s.sight).collect()),
                 }
             }
         })

@@ -3,7 +3,7 @@
 //! the gap at rest, behaviours that never brake), and the paths read back from the search's
 //! parent links and replayed through the simulator.
 
-use super::model::{FiniteModel, State, StateKey, Status, Transition};
+use super::model::{Choice, FiniteModel, State, StateKey, Status, Transition};
 use super::{ExploreError, ExploreVerdict, Options, SpeedSet};
 use crate::core::model::Problem;
 use crate::core::num::Exact;
@@ -13,9 +13,17 @@ use crate::crosscheck::bfs::{self, MAX_NODES, NodeId, Reached, Successors};
 /// A path of the model, replayed through the simulator.
 #[derive(Clone, Debug)]
 pub struct Path {
+    /// The initial gap it starts from.
+    pub start: Exact,
     /// The actions: the obstacle's speed in each control period, exactly.
     pub speeds: Vec<Exact>,
-    /// The replay through [`simulate::run`] in exact numbers.
+    /// The aim of each period's observation error: true where it let the guard fire (the
+    /// guard fired there), false where it kept it quiet or nothing was observed.
+    pub reacts: Vec<bool>,
+    /// Occlusion: the period at whose start the obstacle was first seen (None: hidden
+    /// throughout the path, or no occlusion).
+    pub first_seen: Option<usize>,
+    /// The replay through [`simulate::run_choosing`] in exact numbers.
     pub run: Run<Exact>,
     /// The replay as the simulator's trace.
     pub trace: Vec<TraceRow>,
@@ -56,6 +64,8 @@ pub struct Exploration {
     pub closest: Option<Path>,
     /// The speed set explored.
     pub speeds: SpeedSet,
+    /// The initial gaps explored.
+    pub starts: Vec<Exact>,
 }
 
 impl Exploration {
@@ -74,7 +84,7 @@ impl Exploration {
 #[derive(Clone, Copy)]
 struct PathEnd {
     node: NodeId,
-    action: u16,
+    action: Choice,
 }
 
 /// What the search watches on the transitions it computes, in the order it computes them.
@@ -124,14 +134,6 @@ pub fn explore(
 
 /// Explores a model breadth first (see the module docs).
 pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Exploration, ExploreError> {
-    if model.params().noisy() || model.params().d_det.is_some() {
-        // Its state key classifies future observations as they are, without errors.
-        return Err(ExploreError::Options(
-            "the explorer does not model sensing noise or occlusion yet (sensing.gap_noise, \
-             sensing.speed_noise, sensing.first_detection_gap); certify analyses them exactly"
-                .into(),
-        ));
-    }
     if options.max_states == 0 {
         return Err(ExploreError::Options(
             "--max-states must be at least 1".into(),
@@ -143,14 +145,21 @@ pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Explorati
         )));
     }
     let mut watch = Watch::default();
-    let init = model.init_states().into_iter().map(|s| (model.key(&s), s));
+    // Init states are kept in start order; the starts whose hidden obstacle can never be
+    // seen are left out (no behaviour), so each root remembers its start.
+    let init_states = model.init_states();
+    let roots: Vec<Exact> = init_states
+        .iter()
+        .map(|s| s.world().gap().clone())
+        .collect();
+    let init = init_states.into_iter().map(|s| (model.key(&s), s));
     let state_limit = options.state_limit(super::bytes_per_state(model.params().L, 1));
     let reached = bfs::search(init, state_limit, |id, state, next| {
         expand(model, &mut watch, id, state, next)
     })?;
     let counterexample = watch
         .counterexample
-        .map(|end| replay(model, &reached, end, true))
+        .map(|end| replay(model, &roots, &reached, end, true))
         .transpose()?;
     if let Some(c) = &counterexample
         && !c.run.records.last().is_some_and(|r| r.collision)
@@ -161,7 +170,7 @@ pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Explorati
     }
     let closest = watch
         .closest
-        .map(|end| replay(model, &reached, end, false))
+        .map(|end| replay(model, &roots, &reached, end, false))
         .transpose()?;
     let verdict = if counterexample.is_some() {
         ExploreVerdict::Collision
@@ -182,6 +191,7 @@ pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Explorati
         counterexample,
         closest,
         speeds: model.speeds().clone(),
+        starts: model.starts().to_vec(),
     })
 }
 
@@ -193,15 +203,17 @@ fn expand(
     watch: &mut Watch,
     id: NodeId,
     state: &State,
-    next: &mut Successors<'_, State, StateKey, u16>,
+    next: &mut Successors<'_, State, StateKey, Choice>,
 ) -> Result<(), ExploreError> {
     for action in model.actions(state) {
         let t = model.next_state(state, action)?;
-        let end = PathEnd {
-            node: id,
-            action: action as u16,
-        };
+        let end = PathEnd { node: id, action };
         let status = model.status(&t.next);
+        if status == Status::Lost {
+            // Not a behaviour: the hidden obstacle is never seen at a gap ≥ d_det.
+            watch.transitions += 1;
+            continue;
+        }
         watch.note(&t, status, end);
         let key = model.key(&t.next);
         let flow = if status == Status::Running {
@@ -217,22 +229,34 @@ fn expand(
 }
 
 /// The path to the state `end.node` then `end.action`, replayed through the simulator
-/// (stopping at the first collision if `stop_at_collision`).
+/// from its start with its choices (stopping at the first collision if
+/// `stop_at_collision`).
 fn replay(
     model: &FiniteModel,
-    reached: &Reached<u16>,
+    roots: &[Exact],
+    reached: &Reached<Choice>,
     end: PathEnd,
     stop_at_collision: bool,
 ) -> Result<Path, ExploreError> {
-    let mut actions = reached.path_to(end.node);
+    let (root, mut actions) = reached.rooted_path_to(end.node);
     actions.push(end.action);
+    let start = roots[root as usize].clone();
     let speeds: Vec<Exact> = actions
         .iter()
-        .map(|&a| model.speeds().speeds()[a as usize].clone())
+        .map(|a| model.speeds().speeds()[usize::from(a.speed)].clone())
         .collect();
-    let run = simulate::run(
+    let reacts: Vec<bool> = actions.iter().map(|a| a.react).collect();
+    let first_seen = actions.iter().position(|a| a.show);
+    let hidden_until = match (&model.params().d_det, first_seen) {
+        (None, _) => 0,
+        (Some(_), Some(k)) => k,
+        (Some(_), None) => usize::MAX,
+    };
+    let run = simulate::run_choosing(
         model.params().clone(),
-        |k| speeds[k].clone(),
+        start.clone(),
+        |k| (speeds[k].clone(), reacts[k]),
+        hidden_until,
         speeds.len(),
         stop_at_collision,
     );
@@ -244,5 +268,12 @@ fn replay(
         )));
     }
     let trace = simulate::trace(model.params(), &run);
-    Ok(Path { speeds, run, trace })
+    Ok(Path {
+        start,
+        speeds,
+        reacts,
+        first_seen,
+        run,
+        trace,
+    })
 }
