@@ -82,39 +82,54 @@ fn main() {
         t_full.as_secs_f64() * 1e6
     );
 
-    // Sensing noise (issue 10): the seed with 2 mm / 0.01 m/s of noise against itself
-    // without, in the same run; pieces, programs and time.
-    let mut noisy = seed.clone();
-    noisy.sensing = Some(Sensing {
-        gap_noise: Some(0.002),
-        speed_noise: Some(0.01),
-        first_detection_gap: None,
-    });
+    // Sensing noise and occlusion (issue 10): the seed with 2 mm / 0.01 m/s of noise, and
+    // with an obstacle first seen at 1.2 m too, against itself without, in the same run;
+    // then the same with W = 0.25 m/s > V_a, where the wrong-assumption guard is active and
+    // occlusion adds the pieces of an obstacle first seen inside the area. Pieces, programs
+    // and time.
     let certify = |p: &Problem| {
         let a = analyse(p).expect("analyses");
         let c = Certificate::from_analysis(&a);
         black_box(check(&c).expect("verifies"));
         a
     };
-    let (plain, with_noise) = (certify(&seed), certify(&noisy));
-    let t_plain = median(31, 20, || {
-        certify(black_box(&seed));
-    });
-    let t_noisy = median(31, 20, || {
-        certify(black_box(&noisy));
-    });
-    println!(
-        "noise: seed {} pieces / {} LPs {:.1} µs; with sigma_g 2 mm, sigma_w 0.01 m/s {} pieces / {} LPs {:.1} µs ({:.2}x), s* {:?} -> {:?}",
-        plain.outcomes.len(),
-        plain.programs_solved,
-        t_plain.as_secs_f64() * 1e6,
-        with_noise.outcomes.len(),
-        with_noise.programs_solved,
-        t_noisy.as_secs_f64() * 1e6,
-        t_noisy.as_secs_f64() / t_plain.as_secs_f64(),
-        plain.min_separation,
-        with_noise.min_separation,
-    );
+    let sensed = |p: &Problem, d_det: Option<f64>| {
+        let mut q = p.clone();
+        q.sensing = Some(Sensing {
+            gap_noise: Some(0.002),
+            speed_noise: Some(0.01),
+            first_detection_gap: d_det,
+        });
+        q
+    };
+    let mut guarded = seed.clone();
+    guarded.environment.obstacle_speed = 0.25;
+    for (base, label) in [(&seed, "seed"), (&guarded, "seed, W 0.25 (guard active)")] {
+        let t_plain = median(31, 20, || {
+            certify(black_box(base));
+        });
+        let plain = certify(base);
+        for (d_det, what) in [(None, "noise"), (Some(1.2), "noise + occlusion 1.2 m")] {
+            let p = sensed(base, d_det);
+            let a = certify(&p);
+            let t = median(31, 20, || {
+                certify(black_box(&p));
+            });
+            println!(
+                "{what}: {label} {} pieces / {} LPs {:.1} µs; with sigma_g 2 mm, sigma_w 0.01 m/s{} {} pieces / {} LPs {:.1} µs ({:.2}x), s* {:?} -> {:?}",
+                plain.outcomes.len(),
+                plain.programs_solved,
+                t_plain.as_secs_f64() * 1e6,
+                d_det.map_or(String::new(), |d| format!(", d_det {d} m")),
+                a.outcomes.len(),
+                a.programs_solved,
+                t.as_secs_f64() * 1e6,
+                t.as_secs_f64() / t_plain.as_secs_f64(),
+                plain.min_separation,
+                a.min_separation,
+            );
+        }
+    }
 
     // Brake-on-entry, latency 0: the analyser against the closed form on the same cases.
     let mut cases = Vec::new();
