@@ -1,12 +1,16 @@
 //! Monte Carlo over random obstacle behaviours: the seed paper's measure of safety, kept as
-//! a cross-check beside the proofs (a certified problem must never collide here).
+//! a cross-check beside the proofs (a certified problem must never collide here). With
+//! sensing noise every error keeps the robot from reacting as far as it can
+//! ([`crate::core::semantics::World::step`]); with occlusion every other run (the odd ones)
+//! keeps the obstacle hidden as late as the premise allows
+//! ([`crate::core::simulate::run_hiding_late`]), the even ones show it from the start.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::core::model::Params;
-use crate::core::simulate::{horizon, run};
+use crate::core::simulate::{Run, horizon, run, run_hiding_late};
 
 /// Monte Carlo summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -30,6 +34,23 @@ pub fn random_speeds(w: f64, seed: u64, i: usize) -> impl FnMut(usize) -> f64 {
     move |_| w * (1.0 - rng.random::<f64>())
 }
 
+/// Monte Carlo run `i`: [`random_speeds`], and with occlusion, for odd `i`, the obstacle
+/// hidden as late as the premise allows. `simulate --trace` replays the closest run so.
+pub fn monte_carlo_run(
+    params: &Params<f64>,
+    seed: u64,
+    i: usize,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<f64> {
+    let speeds = random_speeds(params.W, seed, i);
+    if params.d_det.is_some() && i % 2 == 1 {
+        run_hiding_late(params.clone(), speeds, max_steps, stop_at_collision)
+    } else {
+        run(params.clone(), speeds, max_steps, stop_at_collision)
+    }
+}
+
 /// Simulates `runs` random obstacle behaviours.
 pub fn monte_carlo(params: &Params<f64>, runs: usize, seed: u64) -> MonteCarlo {
     let max = horizon(params);
@@ -41,7 +62,7 @@ pub fn monte_carlo(params: &Params<f64>, runs: usize, seed: u64) -> MonteCarlo {
         closest_run: 0,
     };
     for i in 0..runs {
-        let run = run(params.clone(), random_speeds(params.W, seed, i), max, true);
+        let run = monte_carlo_run(params, seed, i, max, true);
         if run.outcome.collided {
             summary.collisions += 1;
         }

@@ -233,12 +233,7 @@ fn random(
     let mc = analysis::monte_carlo(&floats, runs, seed);
     if let Some(path) = trace {
         let max = simulate::horizon(&floats);
-        let run = simulate::run(
-            floats.clone(),
-            analysis::random_speeds(floats.W, seed, mc.closest_run),
-            max,
-            false,
-        );
+        let run = analysis::monte_carlo_run(&floats, seed, mc.closest_run, max, false);
         let rows = simulate::trace(&floats, &run);
         write_file(path, trace_for_path(path, &rows, "0").as_bytes())?;
     }

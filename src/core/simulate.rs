@@ -118,10 +118,66 @@ pub fn run_choosing<N: Scalar>(
     run_world(world, choose, max_steps, stop_at_collision)
 }
 
+/// [`run`] with occlusion played late: the obstacle stays hidden for as long as a later
+/// observation could still show a true gap ≥ d_det, and is seen from the last observation
+/// that surely does (the observed gap falls by at most (v_max + W)·dt per period) — a
+/// pedestrian stepping out as late as the premise allows. Without d_det it is [`run`].
+pub fn run_hiding_late<N: Scalar>(
+    params: Params<N>,
+    speed: impl FnMut(usize) -> N,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<N> {
+    let mut world = World::new(params);
+    if world.params().d_det.is_some() {
+        world.hide_until(usize::MAX);
+    }
+    let mut speed = speed;
+    run_world_with(
+        world,
+        |k| (speed(k), false),
+        reveal_if_last_chance,
+        max_steps,
+        stop_at_collision,
+    )
+}
+
+/// Shows a hidden obstacle now if its next observation might fall below d_det (or no
+/// admissible sighting is left: then it is seen, as an obstacle visible from the start is).
+fn reveal_if_last_chance<N: Scalar>(world: &mut World<N>) {
+    let Some(d_det) = world.params().d_det.clone() else {
+        return;
+    };
+    if world.observation().is_some() {
+        return;
+    }
+    let mut shown = world.clone();
+    shown.hide_until(world.k());
+    if let Some(obs) = shown.observation() {
+        let p = world.params();
+        let fall = (p.v_max.clone() + p.W.clone()) * p.dt.clone();
+        if obs.gap - fall < d_det {
+            world.hide_until(world.k());
+        }
+    }
+}
+
 /// Runs `world` with `choose(k)` = (speed, error aim) in period k (see [`run_choosing`]).
 fn run_world<N: Scalar>(
+    world: World<N>,
+    choose: impl FnMut(usize) -> (N, bool),
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Run<N> {
+    run_world_with(world, choose, |_| {}, max_steps, stop_at_collision)
+}
+
+/// [`run_world`] with `before(world)` called at each period's start (the environment's
+/// choices that need the world, such as when to show a hidden obstacle).
+fn run_world_with<N: Scalar>(
     mut world: World<N>,
     mut choose: impl FnMut(usize) -> (N, bool),
+    mut before: impl FnMut(&mut World<N>),
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Run<N> {
@@ -133,6 +189,7 @@ fn run_world<N: Scalar>(
         min_moving_gap: None,
     };
     while world.k() < max_steps && !world.stopped() {
+        before(&mut world);
         let (w, react) = choose(world.k());
         let rec = world.step_with(w, react);
         if let Some(reason) = rec.brake {

@@ -369,3 +369,55 @@ fn noise_never_helps_and_zero_noise_is_todays_answer() {
         );
     }
 }
+
+/// Monte Carlo plays occlusion late on every other run: the obstacle is first seen at the
+/// last observation that surely shows a true gap ≥ d_det. Each such run's first sighting is
+/// admissible and the last chance; the runs reach closer than the visible ones, never below
+/// s*, and a certified occluded problem never collides.
+#[test]
+fn monte_carlo_hides_the_obstacle_as_late_as_the_premise_allows() {
+    use safereach::analysis::{monte_carlo, monte_carlo_run};
+    use safereach::core::simulate::horizon;
+
+    let seed_problem = |d_det: Option<f64>| {
+        let mut p = Problem::load(&crate::common::paths::seed_file()).expect("the seed loads");
+        p.sensing = d_det.map(|d| Sensing {
+            gap_noise: None,
+            speed_noise: None,
+            first_detection_gap: Some(d),
+        });
+        p.validate("test").expect("a valid problem");
+        p
+    };
+    let visible = monte_carlo(&seed_problem(None).params::<f64>(), 200, 0);
+    for d_det in [0.8, 1.2] {
+        let p = seed_problem(Some(d_det));
+        let params = p.params::<f64>();
+        let step = (params.v_max + params.W) * params.dt;
+        for i in [1, 3, 5] {
+            let run = monte_carlo_run(&params, 0, i, horizon(&params), false);
+            let k = run
+                .records
+                .iter()
+                .position(|r| r.observation.is_some())
+                .expect("the obstacle is seen");
+            let gap = run.records[k].observation.as_ref().unwrap().gap;
+            assert!(
+                gap >= d_det && gap - step < d_det,
+                "run {i}: first seen at {gap}"
+            );
+        }
+        let mc = monte_carlo(&params, 200, 0);
+        let a = analyse(&p).unwrap();
+        let s = a.min_separation.expect("a worst case");
+        assert!(
+            mc.min_separation >= s - 1e-9,
+            "{} below s* {s}",
+            mc.min_separation
+        );
+        assert!(mc.min_separation < visible.min_separation);
+        if a.verdict == Verdict::Certified {
+            assert_eq!(mc.collisions, 0);
+        }
+    }
+}
