@@ -339,8 +339,17 @@ impl<N: Scalar> World<N> {
     /// speed over period k−L−1 (0 before the first period); nothing before L·dt, nor while
     /// the obstacle is hidden ([`World::hide_until`]).
     pub fn observation(&self) -> Option<Observation<N>> {
+        if self.k < self.hidden_until {
+            return None;
+        }
+        self.observation_if_shown()
+    }
+
+    /// What the robot would see at the start of period k if the obstacle were shown now
+    /// (hidden or not): what an environment deciding when to show it looks at.
+    pub fn observation_if_shown(&self) -> Option<Observation<N>> {
         let l = self.params.L;
-        if self.k < l || self.k < self.hidden_until {
+        if self.k < l {
             return None;
         }
         // gaps holds g_{k-L..=k} once k ≥ L (with g_k pushed in step); here g_k is self.gap.

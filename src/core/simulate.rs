@@ -124,7 +124,7 @@ pub fn run_choosing<N: Scalar>(
 /// pedestrian stepping out as late as the premise allows. Without d_det it is [`run`].
 pub fn run_hiding_late<N: Scalar>(
     params: Params<N>,
-    speed: impl FnMut(usize) -> N,
+    mut speed: impl FnMut(usize) -> N,
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Run<N> {
@@ -132,7 +132,6 @@ pub fn run_hiding_late<N: Scalar>(
     if world.params().d_det.is_some() {
         world.hide_until(usize::MAX);
     }
-    let mut speed = speed;
     run_world_with(
         world,
         |k| (speed(k), false),
@@ -151,9 +150,7 @@ fn reveal_if_last_chance<N: Scalar>(world: &mut World<N>) {
     if world.observation().is_some() {
         return;
     }
-    let mut shown = world.clone();
-    shown.hide_until(world.k());
-    if let Some(obs) = shown.observation() {
+    if let Some(obs) = world.observation_if_shown() {
         let p = world.params();
         let fall = (p.v_max.clone() + p.W.clone()) * p.dt.clone();
         if obs.gap - fall < d_det {
