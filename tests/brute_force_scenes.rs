@@ -245,6 +245,7 @@ impl Case {
             controller: self.controller(),
             goal: self.goal.map(hundredths),
             sensing_range: None,
+            sensing: None,
             lane_change: None,
             lanes,
             obstacles: self

@@ -21,6 +21,7 @@ pub mod scene_search;
 pub mod schedule;
 pub mod search_certificate;
 pub mod search_check;
+pub mod search_observations;
 pub mod separation;
 pub mod verdict;
 pub mod witness_runs;

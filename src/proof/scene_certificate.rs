@@ -152,7 +152,7 @@ pub fn scene_premises(scene: &Scene) -> Vec<Premise> {
                 scene.controller.reaction_radius
             }),
         },
-        sensing: None,
+        sensing: scene.sensing.clone(),
     };
     premises(&problem)
 }

@@ -90,8 +90,15 @@ pub struct SceneDecomposition {
 
 impl SceneDecomposition {
     /// Whether the schedule analyser decides the scene (no lane changes, no position
-    /// ranges), without building anything.
+    /// ranges, exact observations of visible obstacles), without building anything.
     pub fn decides(scene: &Scene) -> Result<(), Unsupported> {
+        if scene.sensing.is_some() {
+            return Err(Unsupported(
+                "the schedule analyser composes scenes with exact observations only (the run \
+                 search decides [sensing] settings)"
+                    .into(),
+            ));
+        }
         if scene.lane_change.is_some() {
             return Err(Unsupported(
                 "the schedule analyser does not take lane changes (the run search decides them)"

@@ -21,6 +21,7 @@ use crate::proof::premise::Premise;
 use crate::proof::scene_certificate::scene_premises;
 use crate::proof::scene_search::tree::{Ending, TreeError};
 use crate::proof::scene_search::{SceneSearch, Separation, search_scene, worst_behaviour};
+use crate::proof::search_observations::{ObservationError, observations_of, plan_of};
 use crate::proof::separation::SEPARATION_TOLERANCE;
 use crate::proof::verdict::Verdict;
 
@@ -61,6 +62,15 @@ pub struct RunWitness {
     /// worst cases sit on guard thresholds such as V_a, which a float would cross); W_i
     /// after the last.
     pub obstacle_speeds: Vec<Vec<String>>,
+    /// Occlusion: per obstacle, the step at whose start the robot is first shown it (null:
+    /// never within the replay); empty without occlusion, when every obstacle is shown
+    /// from the start.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shown_from: Vec<Option<usize>>,
+    /// Noise: the observations the run reads that are shown off the truth, with their
+    /// exact errors; every other observation is exact. Empty without noise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub observation_errors: Vec<ObservationError>,
     /// The lane changes of the run.
     pub lane_changes: Vec<LaneChangeEvent>,
     /// The step at whose start the robot brakes, and why (null: it never brakes).
@@ -235,6 +245,8 @@ fn witness(
         _ => nano,
     };
     let (starts, speeds) = worst_behaviour(scene, run, &slack)?;
+    let p: SceneParams<Rational> = scene.params::<Exact>().map(Rational::from_exact);
+    let (shown_from, errors) = observations_of(&p, &run.leaf, &starts, &speeds)?;
     let starts: Vec<Option<Exact>> = scene
         .obstacles
         .iter()
@@ -258,6 +270,7 @@ fn witness(
         run.obstacle,
         &starts,
         speeds,
+        (shown_from, errors),
         max_steps,
         star.is_none(),
     ))
@@ -274,13 +287,15 @@ pub fn witness_starts(scene: &Scene, starts: &[Option<Exact>]) -> Vec<Exact> {
         .collect()
 }
 
-/// Replays exact speeds (W_i after the last) from starts, up to `max_steps`, into a
-/// witness for obstacle `obstacle`.
+/// Replays exact speeds (W_i after the last) from starts, with `observations` (the
+/// witness's `shown_from` and `observation_errors`), up to `max_steps`, into a witness for
+/// obstacle `obstacle`.
 pub fn replay_witness(
     scene: &Scene,
     obstacle: usize,
     starts: &[Option<Exact>],
     mut speeds: Vec<Vec<Exact>>,
+    observations: (Vec<Option<usize>>, Vec<ObservationError>),
     max_steps: usize,
     stop_at_collision: bool,
 ) -> RunWitness {
@@ -289,9 +304,18 @@ pub fn replay_witness(
         s.resize(max_steps.max(s.len()), o.max_speed.clone());
     }
     let exact_starts = witness_starts(scene, starts);
-    let replay = simulate::replay_exact_speeds(
+    let (shown_from, observation_errors) = observations;
+    let plan = plan_of(
+        &shown_from,
+        &observation_errors,
+        params.obstacles.len(),
+        exact_from_text,
+    )
+    .expect("the search writes a plan that reads");
+    let replay = simulate::replay_observing(
         &params,
         &speeds,
+        &plan,
         &exact_starts,
         max_steps,
         stop_at_collision,
@@ -310,6 +334,8 @@ pub fn replay_witness(
             .iter()
             .map(|ws| ws.iter().map(Exact::to_string).collect())
             .collect(),
+        shown_from,
+        observation_errors,
         lane_changes: replay.run.outcome.lane_changes.clone(),
         brake: replay.run.outcome.brake,
         collides: replay.collided(),

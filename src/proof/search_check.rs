@@ -22,6 +22,7 @@ use crate::proof::search_certificate::{
     RunWitness, SEARCH_FORMAT, SearchCertificate, exact_from_text, exact_text,
     obstacle_separations, witness_starts,
 };
+use crate::proof::search_observations::{plan_of, premises_hold};
 use crate::proof::separation::{Stated, settle};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
@@ -168,18 +169,28 @@ fn check_witness(
     }
     let periods = speeds.iter().map(Vec::len).max().unwrap_or(0);
     let exact_starts = witness_starts(scene, &starts);
+    let plan = plan_of(
+        &w.shown_from,
+        &w.observation_errors,
+        scene.obstacles.len(),
+        exact_from_text,
+    )
+    .map_err(Invalid)?;
     // A run that ended by itself (at rest, settled, or at a collision it stops at) ends
     // there again given one period more; one cut off at its step cap runs on, and is
     // replayed to exactly its length.
     let stop = star.is_none();
-    let mut replay =
-        simulate::replay_exact_speeds(&params, &speeds, &exact_starts, periods + 1, stop);
+    let replay_for = |periods: usize| {
+        simulate::replay_observing(&params, &speeds, &plan, &exact_starts, periods, stop)
+    };
+    let mut replay = replay_for(periods + 1);
     if replay.periods() > periods {
-        replay = simulate::replay_exact_speeds(&params, &speeds, &exact_starts, periods, stop);
+        replay = replay_for(periods);
     }
     if replay.periods() != periods {
         return invalid("witness lists speeds past the end of its run");
     }
+    premises_hold(&params, &plan, &replay.run).map_err(Invalid)?;
     let steps = replay.trace();
     let same = same_scene_trace(&steps, &w.steps);
     if !same {

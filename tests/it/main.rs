@@ -36,6 +36,7 @@ mod scene_cli;
 mod scene_explore;
 mod scene_input;
 mod scene_search;
+mod scene_sensing;
 mod scene_uppaal;
 mod slurm_cluster;
 mod sweep;

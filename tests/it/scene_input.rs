@@ -112,6 +112,7 @@ fn base_scene() -> Scene {
             periods: 10,
             rear_gap: 0.5,
         }),
+        sensing: None,
         lanes: vec![-1, 0, 1],
         obstacles: vec![
             Obstacle {

@@ -5,7 +5,7 @@ use crate::core::model::error::{Violation, show_count, show_number, with_unit};
 use crate::core::model::keys::{
     Bound, KEYS, KeySpec, Kind, MAX_LATENCY, MAX_MAGNITUDE, MAX_PERIODS,
 };
-use crate::core::model::{Controller, Position, Problem, Robot};
+use crate::core::model::{Controller, Position, Problem, Robot, Sensing};
 
 impl Problem {
     /// The problem's numbers with their dotted keys, in file order (optional keys only
@@ -18,14 +18,7 @@ impl Problem {
         if env.initial_gap.is_range() {
             numbers.push(("environment.initial_gap", env.initial_gap.max()));
         }
-        if let Some(s) = &self.sensing {
-            let optional = [
-                ("sensing.gap_noise", s.gap_noise),
-                ("sensing.speed_noise", s.speed_noise),
-                ("sensing.first_detection_gap", s.first_detection_gap),
-            ];
-            numbers.extend(optional.iter().filter_map(|&(k, x)| Some((k, x?))));
-        }
+        numbers.extend(sensing_numbers(self.sensing.as_ref()));
         numbers
     }
 
@@ -76,20 +69,6 @@ impl Problem {
                     show_number(lo),
                     show_number(hi)
                 ),
-            });
-        }
-        if gap.is_range()
-            && (self.gap_noise() > 0.0
-                || self.speed_noise() > 0.0
-                || self.first_detection_gap().is_some())
-        {
-            // A range is answered by the scene engines, which observe exactly so far.
-            return Some(Violation {
-                key: "environment.initial_gap",
-                value: show_range(&gap),
-                reason: "a range of initial gaps cannot be combined with [sensing] settings \
-                         yet; give one initial gap"
-                    .into(),
             });
         }
         (gap.min() <= r.clearance).then(|| Violation {
@@ -162,6 +141,22 @@ pub(crate) fn robot_violation(r: &Robot) -> Option<Violation> {
 
 /// The robot's and the controller's numbers with their dotted keys, in file order (the
 /// optional robot keys only when given).
+/// The `[sensing]` numbers given, with their dotted keys, in file order.
+pub(crate) fn sensing_numbers(sensing: Option<&Sensing>) -> Vec<(&'static str, f64)> {
+    let Some(s) = sensing else {
+        return Vec::new();
+    };
+    let optional = [
+        ("sensing.gap_noise", s.gap_noise),
+        ("sensing.speed_noise", s.speed_noise),
+        ("sensing.first_detection_gap", s.first_detection_gap),
+    ];
+    optional
+        .iter()
+        .filter_map(|&(k, x)| Some((k, x?)))
+        .collect()
+}
+
 pub(crate) fn robot_controller_numbers(r: &Robot, c: &Controller) -> Vec<(&'static str, f64)> {
     let optional = [
         ("robot.braking_min", r.braking_min),

@@ -59,7 +59,8 @@ pub(crate) const STATIC: KeySpec = spec("static", Kind::Flag, "", Bound::Free);
 pub(crate) const OBSTACLE_KEYS: &[&KeySpec] = &[&NAME, &LANE, &POSITION, &MAX_SPEED, &STATIC];
 
 /// The tables a scene file may have, and the array of obstacle tables.
-pub(crate) const SCENE_TABLES: &[&str] = &["robot", "controller", "environment", "scene"];
+pub(crate) const SCENE_TABLES: &[&str] =
+    &["robot", "controller", "environment", "sensing", "scene"];
 
 /// A key of a scene: where its value sits and how messages name it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -223,6 +224,11 @@ mod tests {
         s.lanes = vec![0, 1];
         s.robot.braking_min = Some(0.04);
         s.robot.initial_speed = Some(0.1);
+        s.sensing = Some(crate::core::model::Sensing {
+            gap_noise: Some(0.01),
+            speed_noise: Some(0.02),
+            first_detection_gap: Some(0.5),
+        });
         s
     }
 
@@ -244,8 +250,7 @@ mod tests {
             .iter()
             .chain(SCENE_KEYS.iter().copied())
             .map(|s| s.key.to_string())
-            // Scenes observe exactly so far: a `[sensing]` table is refused with the reason.
-            .filter(|k| !k.starts_with("environment.") && !k.starts_with("sensing."))
+            .filter(|k| !k.starts_with("environment."))
             .collect();
         keys.sort();
         known.sort();

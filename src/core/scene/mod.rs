@@ -67,11 +67,12 @@ use serde::{Deserialize, Serialize};
 pub use crate::core::model::Position;
 #[cfg(doc)]
 use crate::core::model::ProblemError;
-use crate::core::model::{Controller, Environment, Params, Problem, Robot};
+use crate::core::model::{Controller, Environment, Params, Problem, Robot, Sensing};
 use crate::core::num::Scalar;
 
 pub mod guards;
 pub mod lateral;
+pub mod observe;
 mod params;
 #[cfg(test)]
 mod run_tests;
@@ -80,6 +81,7 @@ pub mod simulate;
 mod world;
 
 pub use lateral::{LaneChangeEvent, Lateral};
+pub use observe::ObservationPlan;
 pub use params::{LaneChangeParams, ObstacleParams, SceneParams};
 pub use world::{ObstacleStep, SceneStepRecord, SceneWorld};
 
@@ -102,6 +104,10 @@ pub struct Scene {
     /// Lane changes, when the controller may make them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lane_change: Option<LaneChange>,
+    /// Observation noise and occlusion (`[sensing]`), the same for every obstacle; None:
+    /// exact observations of obstacles visible from the start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensing: Option<Sensing>,
     /// Lanes that exist, ascending, without repeats; the robot starts in lane 0.
     pub lanes: Vec<i32>,
     /// The obstacles, in file order (their index is their number in `--set obstacle.N.…`).
@@ -146,6 +152,7 @@ impl Scene {
             goal: None,
             sensing_range: None,
             lane_change: None,
+            sensing: problem.sensing.clone(),
             lanes: vec![0],
             obstacles: vec![Obstacle {
                 name: "obstacle-0".into(),
@@ -180,7 +187,7 @@ impl Scene {
                 obstacle_speed: o.max_speed,
                 initial_gap: x,
             },
-            sensing: None,
+            sensing: self.sensing.clone(),
         })
     }
 
@@ -197,7 +204,7 @@ impl Scene {
                 obstacle_speed: o.max_speed,
                 initial_gap: Position::At(o.position.min()),
             },
-            sensing: None,
+            sensing: self.sensing.clone(),
         };
         if o.is_static {
             problem.controller.assumed_obstacle_speed = 0.0;
@@ -216,7 +223,7 @@ impl Scene {
                 obstacle_speed: 0.0,
                 initial_gap: Position::At(0.0),
             },
-            sensing: None,
+            sensing: self.sensing.clone(),
         }
         .params()
     }

@@ -76,7 +76,7 @@ impl Scene {
                     0.0
                 }),
             },
-            sensing: None,
+            sensing: self.sensing.clone(),
         };
         let robot: Params<N> = problem.params();
         let mut static_robot = robot.clone();

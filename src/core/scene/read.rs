@@ -11,7 +11,7 @@ use toml::de::DeTable;
 use crate::core::model::document::parse_error;
 use crate::core::model::overrides::{Override, PathStep};
 use crate::core::model::read::{check_key_types, problem_from_document};
-use crate::core::model::{Controller, ProblemError, Robot};
+use crate::core::model::{Controller, ProblemError, Robot, Sensing};
 use crate::core::scene::Scene;
 use crate::core::scene::fields::{Extras, lanes, obstacles, take_extras};
 use crate::core::scene::keys::resolve;
@@ -25,6 +25,8 @@ struct Head {
     name: String,
     robot: Robot,
     controller: Controller,
+    #[serde(default)]
+    sensing: Option<Sensing>,
 }
 
 impl Scene {
@@ -141,6 +143,7 @@ fn read_scene(source: &Source<'_>, mut root: DeTable<'_>) -> Result<Scene, Probl
         goal: None,
         sensing_range: None,
         lane_change: None,
+        sensing: head.sensing,
         lanes,
         obstacles,
     })

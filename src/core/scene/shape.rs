@@ -18,7 +18,7 @@ pub(crate) enum Form {
 }
 
 /// The keys a scene file has at its top level, as listed in messages.
-const TOP: &str = "name, [robot], [controller], [scene], [[obstacle]] \
+const TOP: &str = "name, [robot], [controller], [sensing], [scene], [[obstacle]] \
                    (or [environment] for a single obstacle)";
 
 /// Checks that `root` (the document with the overrides applied) has only known keys outside
@@ -89,15 +89,6 @@ fn unknown_keys(source: &Source<'_>, root: &DeTable<'_>) -> Result<(), ProblemEr
         let name = k.get_ref().as_ref();
         if name == "name" || name == "obstacle" {
             continue;
-        }
-        if name == "sensing" {
-            return Err(unknown(
-                name.to_string(),
-                k.span(),
-                "sensing noise is analysed for single-obstacle problems only so far; a scene \
-                 observes exactly"
-                    .into(),
-            ));
         }
         if !SCENE_TABLES.contains(&name) {
             return Err(unknown(

@@ -6,10 +6,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::core::num::{Exact, Scalar, exact_float};
 use crate::core::rational::Rational;
-use crate::core::semantics::{BrakeReason, Mode};
+use crate::core::semantics::{BrakeReason, Mode, Observation};
 use crate::core::simulate::TraceRow;
 
 use super::lateral::{LaneChangeEvent, Lateral};
+use super::observe::ObservationPlan;
 use super::params::SceneParams;
 use super::world::{SceneStepRecord, SceneWorld};
 
@@ -95,7 +96,27 @@ pub struct SceneRun<N> {
 /// through the robot, so a replay can go on to the instant it rests.)
 pub fn run<N: Scalar>(
     params: SceneParams<N>,
+    speed: impl FnMut(usize, usize) -> N,
+    starts: Vec<N>,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> SceneRun<N> {
+    run_observing(
+        params,
+        speed,
+        |_, _, truth| Some(truth),
+        starts,
+        max_steps,
+        stop_at_collision,
+    )
+}
+
+/// [`run`] with the robot's observations chosen by the environment: `shown(i, k, truth)` is
+/// what it is shown of obstacle i at step k's start ([`SceneWorld::step_seeing`]).
+pub fn run_observing<N: Scalar>(
+    params: SceneParams<N>,
     mut speed: impl FnMut(usize, usize) -> N,
+    mut shown: impl FnMut(usize, usize, Observation<N>) -> Option<Observation<N>>,
     starts: Vec<N>,
     max_steps: usize,
     stop_at_collision: bool,
@@ -133,7 +154,7 @@ pub fn run<N: Scalar>(
         let k = world.k();
         speeds.clear();
         speeds.extend((0..n).map(|i| speed(i, k)));
-        let rec = world.step(&speeds);
+        let rec = world.step_seeing(&speeds, |i, truth| shown(i, k, truth));
         if let Some(reason) = rec.brake {
             outcome.brake = Some((rec.k, reason));
         }
@@ -258,6 +279,7 @@ pub fn replay(
     replay_with(
         params,
         |i, k| exact_speed(params, speeds, i, k),
+        &ObservationPlan::exact(params.obstacles.len()),
         starts,
         max_steps,
         stop_at_collision,
@@ -273,6 +295,20 @@ pub fn replay_exact_speeds(
     max_steps: usize,
     stop_at_collision: bool,
 ) -> SceneReplay {
+    let exact = ObservationPlan::exact(params.obstacles.len());
+    replay_observing(params, speeds, &exact, starts, max_steps, stop_at_collision)
+}
+
+/// As [`replay_exact_speeds`], with the robot's observations as `plan` shows them (noise
+/// and occlusion).
+pub fn replay_observing(
+    params: &SceneParams<Exact>,
+    speeds: &[Vec<Exact>],
+    plan: &ObservationPlan<Exact>,
+    starts: &[Exact],
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> SceneReplay {
     let speed = |i: usize, k: usize| {
         speeds
             .get(i)
@@ -280,21 +316,25 @@ pub fn replay_exact_speeds(
             .cloned()
             .unwrap_or_else(|| params.obstacles[i].max_speed.clone())
     };
-    replay_with(params, speed, starts, max_steps, stop_at_collision)
+    replay_with(params, speed, plan, starts, max_steps, stop_at_collision)
 }
 
-/// A replay in `Rational` numbers with obstacle i's speed in period k from `speed(i, k)`.
+/// A replay in `Rational` numbers with obstacle i's speed in period k from `speed(i, k)`
+/// and the observations `plan` shows.
 fn replay_with(
     params: &SceneParams<Exact>,
     speed: impl Fn(usize, usize) -> Exact,
+    plan: &ObservationPlan<Exact>,
     starts: &[Exact],
     max_steps: usize,
     stop_at_collision: bool,
 ) -> SceneReplay {
     let fast: SceneParams<Rational> = params.map(Rational::from_exact);
-    let run = run(
+    let plan: ObservationPlan<Rational> = plan.map(Rational::from_exact);
+    let run = run_observing(
         fast.clone(),
         |i, k| Rational::from_exact(&speed(i, k)),
+        |i, k, truth| plan.shown(i, k, truth),
         starts.iter().map(Rational::from_exact).collect(),
         max_steps,
         stop_at_collision,

@@ -8,7 +8,7 @@ use crate::core::model::error::{Violation, show_number};
 use crate::core::model::keys::{KEYS, Kind, MAX_PERIODS};
 use crate::core::model::validate::{
     distance_horizon_violation, latency_violation, motion_horizon_violation, number_violation,
-    robot_controller_numbers, robot_violation,
+    robot_controller_numbers, robot_violation, sensing_numbers,
 };
 use crate::core::model::{ProblemError, error::show_count};
 use crate::core::scene::keys::{
@@ -141,7 +141,8 @@ impl Scene {
 
     /// The robot's and the controller's numbers, checked as in a problem.
     fn robot_controller_violation(&self) -> Option<SceneViolation> {
-        let numbers = robot_controller_numbers(&self.robot, &self.controller);
+        let mut numbers = robot_controller_numbers(&self.robot, &self.controller);
+        numbers.extend(sensing_numbers(self.sensing.as_ref()));
         KEYS.iter()
             .find_map(|spec| match spec.kind {
                 Kind::Count => latency_violation(spec, self.robot.latency),

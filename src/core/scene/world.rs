@@ -206,7 +206,20 @@ impl<N: Scalar> SceneWorld<N> {
     /// What the robot sees of obstacle i at the start of the next period: the observation
     /// of §1, unless it shows a gap beyond the sensing range.
     pub fn seen(&self, i: usize) -> Option<Observation<N>> {
-        let obs = self.tracks[i].observation(self.k, self.params.robot.L)?;
+        let obs = self.observation_if_shown(i)?;
+        self.within_range(obs)
+    }
+
+    /// The true observation of obstacle i at the start of the next period (the gap at
+    /// (k−L)·dt and its speed over period k−L−1, 0 before the first period; None before
+    /// L·dt), before any noise, occlusion or sensing range: what an environment choosing
+    /// the robot's observations ([`SceneWorld::step_seeing`]) starts from.
+    pub fn observation_if_shown(&self, i: usize) -> Option<Observation<N>> {
+        self.tracks[i].observation(self.k, self.params.robot.L)
+    }
+
+    /// `obs` unless its gap is beyond the sensing range.
+    fn within_range(&self, obs: Observation<N>) -> Option<Observation<N>> {
         match &self.params.sensing_range {
             Some(range) if obs.gap > *range => None,
             _ => Some(obs),
@@ -238,9 +251,11 @@ impl<N: Scalar> SceneWorld<N> {
             let track = &self.tracks[i];
             let behind = || track.side.unwrap_or_else(|| Side::of(&track.gap)) == Side::Behind;
             if o.lane == lateral.lane {
+                // Seen at a gap ≤ 0 whatever the error (a hidden obstacle is first shown at
+                // a gap ≥ d_det > 0, so never again).
                 let past = track
                     .observation(self.k, l)
-                    .is_some_and(|obs| obs.gap <= N::zero());
+                    .is_some_and(|obs| obs.gap <= -self.params.robot.sigma_g.clone());
                 past && behind()
             } else if lateral.occupies(o.lane) {
                 behind()
@@ -256,11 +271,32 @@ impl<N: Scalar> SceneWorld<N> {
     /// # Panics
     /// If `speeds` does not give one speed per obstacle.
     pub fn step(&mut self, speeds: &[N]) -> SceneStepRecord<N> {
+        self.step_seeing(speeds, |_, truth| Some(truth))
+    }
+
+    /// [`SceneWorld::step`] with the robot's observations chosen by the environment:
+    /// `shown(i, truth)` is what the robot is shown of obstacle i when its true observation
+    /// is `truth` (None: hidden). Observation noise and occlusion (docs/semantics.md §12)
+    /// are such choices; the caller keeps them within the premises (errors within ±σ, a
+    /// first sighting at a true gap ≥ d_det), nothing here checks it. The sensing range
+    /// applies to what is shown.
+    ///
+    /// # Panics
+    /// If `speeds` does not give one speed per obstacle.
+    pub fn step_seeing(
+        &mut self,
+        speeds: &[N],
+        mut shown: impl FnMut(usize, Observation<N>) -> Option<Observation<N>>,
+    ) -> SceneStepRecord<N> {
         assert_eq!(speeds.len(), self.tracks.len(), "one speed per obstacle");
         let k = self.k;
         let mut lateral = self.lateral();
-        let seen: Vec<Option<Observation<N>>> =
-            (0..self.tracks.len()).map(|i| self.seen(i)).collect();
+        let seen: Vec<Option<Observation<N>>> = (0..self.tracks.len())
+            .map(|i| {
+                let truth = self.observation_if_shown(i)?;
+                self.within_range(shown(i, truth)?)
+            })
+            .collect();
         let mut brake = None;
         let mut lane_change = None;
         if matches!(self.robot.mode, Mode::Accelerate | Mode::Drive) {

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::core::model::{Controller, Robot};
+use crate::core::model::{Controller, Robot, Sensing};
 use crate::core::scene::{Obstacle, Scene};
 
 /// A scene in the file's shape: the scene's settings in `[robot]` and `[controller]`, the
@@ -12,6 +12,8 @@ struct File<'a> {
     name: &'a str,
     robot: RobotTable<'a>,
     controller: ControllerTable<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sensing: Option<&'a Sensing>,
     scene: SceneTable<'a>,
     obstacle: &'a [Obstacle],
 }
@@ -59,6 +61,7 @@ impl Scene {
                 lane_change_periods: self.lane_change.map(|l| l.periods),
                 lane_change_rear_gap: self.lane_change.map(|l| l.rear_gap),
             },
+            sensing: self.sensing.as_ref(),
             scene: SceneTable { lanes: &self.lanes },
             obstacle: &self.obstacles,
         };

@@ -226,6 +226,13 @@ pub struct SceneUppaalModel {
 /// explorer reads `--speeds`).
 pub fn export_scene(scene: &Scene, speeds: &SceneSpeeds) -> Result<SceneUppaalModel, UppaalError> {
     let params = scene.params::<Exact>();
+    if params.robot.noisy() || params.robot.d_det.is_some() {
+        return Err(UppaalError::Grid(
+            "the scene export models exact observations of obstacles visible from the start; \
+             the [sensing] settings are not exported yet"
+                .into(),
+        ));
+    }
     let grid = SceneGrid::new(&params, speeds)?;
     let network = scene_network::scene_network(&scene.name, &params, &grid, speeds);
     let xml = xml_text(&network);

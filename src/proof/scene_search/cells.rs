@@ -120,7 +120,11 @@ pub fn cells(role: Role, th: &Thresholds) -> Vec<Cell> {
         let relevant = labels(role, th, &rep).0;
         match (&th.wrong_above, relevant && role == Role::Reference) {
             (Some(va), true) => {
-                let slow = Interval::closed(Rational::zero(), va.clone());
+                // Shown speeds: with noise a shown speed may be below 0.
+                let slow = Interval {
+                    lo: None,
+                    hi: Some(End::closed(va.clone())),
+                };
                 let fast = Interval {
                     lo: Some(End::open(va.clone())),
                     hi: None,

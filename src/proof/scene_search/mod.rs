@@ -24,6 +24,7 @@ pub mod cells;
 pub mod chain;
 pub mod interval;
 pub mod leaf;
+pub mod sense;
 pub mod tree;
 
 use crate::core::num::Scalar;

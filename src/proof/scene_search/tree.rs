@@ -19,9 +19,12 @@ use crate::core::scene::guards::{Command, scene_guard};
 use crate::core::scene::lateral::{LaneChangeEvent, Lateral};
 use crate::core::semantics::{BrakeReason, Observation, RobotState, danger_distance, robot_motion};
 
+use std::rc::Rc;
+
 use super::cells::{Cell, Role, Thresholds, cells};
 use super::chain::Chain;
 use super::interval::Interval;
+use super::sense::{Sense, Sight};
 
 /// The robot along the drive profile, extended as the search needs it.
 #[derive(Clone, Debug)]
@@ -74,7 +77,47 @@ pub struct Leaf {
     pub changes: Vec<LaneChangeEvent>,
     /// Per obstacle, what the run requires of it.
     pub chains: Vec<Chain>,
+    /// Per obstacle, whether the run has shown it (occlusion).
+    pub sights: Vec<Sight>,
+    log: Log,
 }
+
+impl Leaf {
+    /// The cells the run was shown at its reads, oldest first (kept only with noise: a
+    /// witness picks each of those observations' errors to land in its cell).
+    pub fn shown_cells(&self) -> Vec<ShownCell> {
+        let mut out = Vec::new();
+        let mut link = self.log.as_ref();
+        while let Some(l) = link {
+            out.push(l.cell.clone());
+            link = l.prev.as_ref();
+        }
+        out.reverse();
+        out
+    }
+}
+
+/// One read observation and the cell the run was shown of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShownCell {
+    /// The obstacle.
+    pub obstacle: usize,
+    /// Its observation step n (the gap at n·dt, read at step n + L).
+    pub step: usize,
+    /// The gaps shown.
+    pub gap: Interval,
+    /// The speeds shown.
+    pub speed: Interval,
+}
+
+/// A persistent list of shown cells, newest first (children share their parent's).
+#[derive(Debug)]
+struct LogLink {
+    cell: ShownCell,
+    prev: Log,
+}
+
+type Log = Option<Rc<LogLink>>;
 
 /// A step start at which the robot still accelerates or drives.
 #[derive(Clone, Debug)]
@@ -83,6 +126,16 @@ struct Node {
     lateral: Lateral,
     changes: Vec<LaneChangeEvent>,
     chains: Vec<Chain>,
+    sights: Vec<Sight>,
+    log: Log,
+}
+
+/// What a child of a node requires of the obstacles.
+#[derive(Clone, Debug)]
+struct Child {
+    chains: Vec<Chain>,
+    sights: Vec<Sight>,
+    log: Log,
 }
 
 /// Why the search stopped without an answer.
@@ -114,6 +167,7 @@ pub fn walk(
     mut visit: impl FnMut(&Leaf, &mut Profile),
 ) -> Result<TreeStats, TreeError> {
     let dt = p.robot.dt.clone();
+    let sense = Sense::of(p);
     let root = Node {
         k: 0,
         lateral: Lateral::start(),
@@ -129,6 +183,8 @@ pub fn walk(
                 )
             })
             .collect(),
+        sights: vec![sense.initial(); p.obstacles.len()],
+        log: None,
     };
     let periods = p.lane_change_periods();
     let goal_step = goal_step(p, profile, horizon);
@@ -146,19 +202,28 @@ pub fn walk(
         let lateral = node.lateral.at_step(k, periods);
         let robot = profile.at(p, k).clone();
         let l = p.robot.L;
-        if p.goal.is_none() && k >= l && nothing_left(p, profile, &node, &lateral, k - l) {
-            stats.leaves += 1;
-            visit(
-                &Leaf {
-                    ending: Ending::Forever { step: k },
-                    changes: node.changes.clone(),
-                    chains: node.chains.clone(),
-                },
-                profile,
-            );
+        if p.goal.is_none() && k >= l && nothing_left(p, &sense, profile, &node, &lateral, k - l) {
+            let mut child = Child {
+                chains: node.chains.clone(),
+                sights: node.sights.clone(),
+                log: node.log.clone(),
+            };
+            if settle_hidden(p, &sense, profile, k, &mut child) {
+                stats.leaves += 1;
+                visit(
+                    &Leaf {
+                        ending: Ending::Forever { step: k },
+                        changes: node.changes.clone(),
+                        chains: child.chains,
+                        sights: child.sights,
+                        log: child.log,
+                    },
+                    profile,
+                );
+            }
             continue;
         }
-        if let Some(next) = quiet_until(p, profile, &node, &lateral, goal_step, horizon)
+        if let Some(next) = quiet_until(p, &sense, profile, &node, &lateral, goal_step, horizon)
             && next > k + 1
         {
             // Nothing the controller reads can change before `next`: go straight there.
@@ -169,26 +234,54 @@ pub fn walk(
         // target lane's obstacles are read only when a lane change is being decided, so
         // they are split only then.
         let n = k.checked_sub(l);
+        let seen_at = n.map(|n| profile.at(p, n).position.clone());
         let mut options: Vec<Options> = Vec::with_capacity(p.obstacles.len());
+        let mut bases: Vec<Option<Chain>> = Vec::with_capacity(p.obstacles.len());
         let mut targets: Vec<usize> = Vec::new();
         for i in 0..p.obstacles.len() {
             let role = role(p, &lateral, i);
-            let cells_here = match n {
-                Some(n) if role != Role::Ignored => {
-                    let seen_at = profile.at(p, n).position.clone();
-                    let th = thresholds(p, &robot.speed, &lateral, i, n);
-                    cells(role, &th)
-                        .into_iter()
-                        .filter_map(|cell| reach(&node.chains[i], cell, n, &seen_at))
-                        .collect()
+            let sight = node.sights[i];
+            let base = shown_base(p, &sense, profile, &node.chains[i], sight);
+            let cells_here = match (n, &seen_at) {
+                (Some(n), Some(seen_at)) if role != Role::Ignored => {
+                    let th = thresholds(p, &sense, &robot.speed, &lateral, i, n);
+                    let from = match sight {
+                        Sight::Shown { from } => from,
+                        Sight::Hidden { since } => since,
+                    };
+                    let mut here: Vec<Reachable> = match &base {
+                        Some(base) => cells(role, &th)
+                            .into_iter()
+                            .filter_map(|cell| {
+                                reach(base, cell, n, seen_at, &sense, Sight::Shown { from })
+                            })
+                            .collect(),
+                        None => Vec::new(),
+                    };
+                    if let Sight::Hidden { .. } = sight {
+                        // Hidden at this read: it must stay showable (a true gap ≥ d_det).
+                        let still = sense.detectable(seen_at);
+                        if let Some(chain) = node.chains[i].constrain(n, &still, &Interval::all()) {
+                            here.push(Reachable {
+                                seen: None,
+                                chain,
+                                gap: Interval::all(),
+                                speed: Interval::all(),
+                                sight: Sight::Hidden { since: n + 1 },
+                            });
+                        }
+                    }
+                    here
                 }
                 _ => vec![Reachable {
                     seen: None,
                     chain: node.chains[i].clone(),
-                    position: Interval::all(),
+                    gap: Interval::all(),
                     speed: Interval::all(),
+                    sight,
                 }],
             };
+            bases.push(base);
             if role == Role::Target {
                 targets.push(i);
             }
@@ -197,8 +290,13 @@ pub fn walk(
         if options.iter().any(Vec::is_empty) {
             continue;
         }
-        if let Some(n) = n {
-            merge_equivalent(p, &robot, &lateral, &node, n, &mut options, &targets);
+        if let (Some(n), Some(seen_at)) = (n, &seen_at) {
+            let at = Reading {
+                n,
+                seen_at,
+                sense: &sense,
+            };
+            merge_equivalent(p, &robot, &lateral, &at, &bases, &mut options, &targets);
         }
         let mut choice = vec![0usize; options.len()];
         loop {
@@ -211,32 +309,29 @@ pub fn walk(
             for &t in &targets {
                 seen[t] = None;
             }
-            let base: Vec<Chain> = choice
+            // Targets are read only for a lane change: left as they were otherwise.
+            let picks: Vec<Option<usize>> = choice
                 .iter()
                 .enumerate()
-                .map(|(i, &c)| {
-                    if targets.contains(&i) {
-                        node.chains[i].clone()
-                    } else {
-                        options[i][c].chain.clone()
-                    }
-                })
+                .map(|(i, &c)| (!targets.contains(&i)).then_some(c))
                 .collect();
+            let base = child_of(&node, &options, &picks, n, sense.noisy());
             let command = scene_guard(p, &robot, &lateral, &seen);
             if matches!(command, Command::ChangeLane(_)) && !targets.is_empty() {
                 // The lane change hangs on the targets: one child per combination of theirs.
                 let mut tchoice = vec![0usize; targets.len()];
                 loop {
                     let mut seen = seen.clone();
-                    let mut chains = base.clone();
+                    let mut picks = picks.clone();
                     for (j, &t) in targets.iter().enumerate() {
                         seen[t] = options[t][tchoice[j]].seen.clone();
-                        chains[t] = options[t][tchoice[j]].chain.clone();
+                        picks[t] = Some(tchoice[j]);
                     }
+                    let child = child_of(&node, &options, &picks, n, sense.noisy());
                     let command = scene_guard(p, &robot, &lateral, &seen);
                     follow(
-                        &mut stack, &mut stats, &node, lateral, k, command, chains, profile,
-                        &mut visit,
+                        &mut stack, &mut stats, &node, lateral, k, command, child, profile,
+                        &mut visit, p, &sense,
                     );
                     if !advance_targets(&mut tchoice, &targets, &options) {
                         break;
@@ -245,6 +340,7 @@ pub fn walk(
             } else {
                 follow(
                     &mut stack, &mut stats, &node, lateral, k, command, base, profile, &mut visit,
+                    p, &sense,
                 );
             }
             if !advance(&mut choice, &options, &targets) {
@@ -255,14 +351,103 @@ pub fn walk(
     Ok(stats)
 }
 
-/// One cell an obstacle can reach: its representative, the chain in it, and the cell as
-/// constraints on X(n) and w_{n−1}.
+/// One cell an obstacle can be shown in (or, with occlusion, hidden): its representative
+/// (None: nothing shown), the chain in it, the cell of shown gaps and speeds, and the
+/// obstacle's sight after it.
 #[derive(Clone, Debug)]
 struct Reachable {
     seen: Option<Observation<Rational>>,
     chain: Chain,
-    position: Interval,
+    gap: Interval,
     speed: Interval,
+    sight: Sight,
+}
+
+/// A read at a step: its observation step n, where the robot was then, and the noise.
+struct Reading<'a> {
+    n: usize,
+    seen_at: &'a Rational,
+    sense: &'a Sense,
+}
+
+/// The child that `picks` makes (per obstacle, the option chosen, or None: not read),
+/// logging the shown cells when observations are noisy.
+fn child_of(
+    node: &Node,
+    options: &[Options],
+    picks: &[Option<usize>],
+    n: Option<usize>,
+    noisy: bool,
+) -> Child {
+    let mut child = Child {
+        chains: node.chains.clone(),
+        sights: node.sights.clone(),
+        log: node.log.clone(),
+    };
+    for (i, pick) in picks.iter().enumerate() {
+        let Some(c) = *pick else { continue };
+        let option = &options[i][c];
+        child.chains[i] = option.chain.clone();
+        child.sights[i] = option.sight;
+        if let (true, Some(n), Some(_)) = (noisy, n, &option.seen) {
+            child.log = Some(Rc::new(LogLink {
+                cell: ShownCell {
+                    obstacle: i,
+                    step: n,
+                    gap: option.gap.clone(),
+                    speed: option.speed.clone(),
+                },
+                prev: child.log.take(),
+            }));
+        }
+    }
+    child
+}
+
+/// The chain in which an obstacle is shown at a read: as it is once shown; while hidden,
+/// with its first sighting at the first undecided observation (see [`super::sense`]).
+/// None when it can no longer be shown.
+fn shown_base(
+    p: &SceneParams<Rational>,
+    sense: &Sense,
+    profile: &mut Profile,
+    chain: &Chain,
+    sight: Sight,
+) -> Option<Chain> {
+    match sight {
+        Sight::Shown { .. } => Some(chain.clone()),
+        Sight::Hidden { since } => {
+            let at = profile.at(p, since).position.clone();
+            chain.constrain(since, &sense.detectable(&at), &Interval::all())
+        }
+    }
+}
+
+/// At a leaf reached at step k: every obstacle still undecided was first shown at its
+/// first undecided observation or is hidden through k, and either needs a true gap ≥ d_det
+/// at that observation (see [`super::sense`]). False when some obstacle cannot.
+fn settle_hidden(
+    p: &SceneParams<Rational>,
+    sense: &Sense,
+    profile: &mut Profile,
+    k: usize,
+    child: &mut Child,
+) -> bool {
+    let now = k.saturating_sub(p.robot.L);
+    for i in 0..child.chains.len() {
+        let Sight::Hidden { since } = child.sights[i] else {
+            continue;
+        };
+        if since > now {
+            continue;
+        }
+        let at = profile.at(p, since).position.clone();
+        match child.chains[i].constrain(since, &sense.detectable(&at), &Interval::all()) {
+            Some(chain) => child.chains[i] = chain,
+            None => return false,
+        }
+    }
+    true
 }
 
 /// Per obstacle, the cells it can reach.
@@ -304,9 +489,13 @@ fn signature(
     out
 }
 
-/// Whether two cells' union is again a product of intervals: the same speeds and touching
-/// gaps, or the same gaps and touching speeds.
+/// Whether two shown cells' union is again a product of intervals: the same speeds and
+/// touching gaps, or the same gaps and touching speeds. (Never a hidden option, nor two
+/// options that leave the obstacle's sight differently.)
 fn touching(a: &Reachable, b: &Reachable) -> Option<(Interval, Interval)> {
+    if a.seen.is_none() || b.seen.is_none() || a.sight != b.sight {
+        return None;
+    }
     let meet = |x: &Interval, y: &Interval| -> Option<Interval> {
         let (Some(h), Some(l)) = (&x.hi, &y.lo) else {
             return None;
@@ -318,26 +507,29 @@ fn touching(a: &Reachable, b: &Reachable) -> Option<(Interval, Interval)> {
     };
     let join = |x: &Interval, y: &Interval| meet(x, y).or_else(|| meet(y, x));
     if a.speed == b.speed {
-        return join(&a.position, &b.position).map(|pos| (pos, a.speed.clone()));
+        return join(&a.gap, &b.gap).map(|gap| (gap, a.speed.clone()));
     }
-    if a.position == b.position {
-        return join(&a.speed, &b.speed).map(|sp| (a.position.clone(), sp));
+    if a.gap == b.gap {
+        return join(&a.speed, &b.speed).map(|sp| (a.gap.clone(), sp));
     }
     None
 }
 
 /// Merges, per non-target obstacle, neighbouring cells that command the same whatever the
-/// other obstacles show: the merged cell is one interval constraint, and every behaviour in
-/// it leads to the same child, so the merge is exact and the tree stays small.
+/// other obstacles show: the merged cell is one interval constraint (widening by the noise
+/// keeps a union of touching cells one interval), and every behaviour in it leads to the
+/// same child, so the merge is exact and the tree stays small. `bases[i]` is the chain
+/// obstacle i's shown cells constrain.
 fn merge_equivalent(
     p: &SceneParams<Rational>,
     robot: &RobotState<Rational>,
     lateral: &Lateral,
-    node: &Node,
-    n: usize,
+    at: &Reading<'_>,
+    bases: &[Option<Chain>],
     options: &mut [Options],
     targets: &[usize],
 ) {
+    let n = at.n;
     for i in 0..options.len() {
         if targets.contains(&i) {
             continue;
@@ -346,26 +538,30 @@ fn merge_equivalent(
             let len = options[i].len();
             for a in 0..len {
                 for b in a + 1..len {
-                    let Some((position, speed)) = touching(&options[i][a], &options[i][b]) else {
+                    let Some((gap, speed)) = touching(&options[i][a], &options[i][b]) else {
                         continue;
                     };
                     if !same_everywhere(p, robot, lateral, options, targets, i, a, b) {
                         continue;
                     }
+                    let Some(base) = &bases[i] else { continue };
+                    let position = at.sense.positions(&gap, at.seen_at);
                     let constrained = if n == 0 {
                         Interval::all()
                     } else {
-                        speed.clone()
+                        at.sense.speeds(&speed)
                     };
-                    let Some(chain) = node.chains[i].constrain(n, &position, &constrained) else {
+                    let Some(chain) = base.constrain(n, &position, &constrained) else {
                         continue;
                     };
                     let seen = options[i][a].seen.clone();
+                    let sight = options[i][a].sight;
                     options[i][a] = Reachable {
                         seen,
                         chain,
-                        position,
+                        gap,
                         speed,
+                        sight,
                     };
                     options[i].remove(b);
                     continue 'retry;
@@ -455,9 +651,11 @@ fn follow(
     lateral: Lateral,
     k: usize,
     command: Command,
-    chains: Vec<Chain>,
+    mut child: Child,
     profile: &mut Profile,
     visit: &mut impl FnMut(&Leaf, &mut Profile),
+    p: &SceneParams<Rational>,
+    sense: &Sense,
 ) {
     let mut next = lateral;
     let mut changes = node.changes.clone();
@@ -465,15 +663,19 @@ fn follow(
         Command::Go => {}
         Command::ChangeLane(to) => changes.push(next.begin_change(k, to)),
         Command::Brake(reason) => {
-            stats.leaves += 1;
-            visit(
-                &Leaf {
-                    ending: Ending::Brake { step: k, reason },
-                    changes,
-                    chains,
-                },
-                profile,
-            );
+            if settle_hidden(p, sense, profile, k, &mut child) {
+                stats.leaves += 1;
+                visit(
+                    &Leaf {
+                        ending: Ending::Brake { step: k, reason },
+                        changes,
+                        chains: child.chains,
+                        sights: child.sights,
+                        log: child.log,
+                    },
+                    profile,
+                );
+            }
             return;
         }
     }
@@ -481,7 +683,9 @@ fn follow(
         k: k + 1,
         lateral: next,
         changes,
-        chains,
+        chains: child.chains,
+        sights: child.sights,
+        log: child.log,
     });
 }
 
@@ -491,8 +695,10 @@ fn follow(
 /// and the destination does not fire before it. Lane changes need danger, so none begins
 /// before it either; obstacles of other lanes are read only for lane changes. None when
 /// the robot might react now.
+#[allow(clippy::too_many_arguments)]
 fn quiet_until(
     p: &SceneParams<Rational>,
+    sense: &Sense,
     profile: &mut Profile,
     node: &Node,
     lateral: &Lateral,
@@ -521,7 +727,9 @@ fn quiet_until(
             let fall = chain.w_max().clone()
                 * p.robot.dt.clone()
                 * Rational::int((n - chain.last_step()) as i64);
-            lowest.clone() - fall - profile.at(p, n).position.clone() <= p.robot.rho
+            // Some error shows it within ρ iff its true gap is ≤ ρ + σ_g.
+            lowest.clone() - fall - profile.at(p, n).position.clone()
+                <= p.robot.rho.clone() + sense.sigma_g.clone()
         };
         if near(first, profile) {
             return None;
@@ -551,16 +759,28 @@ fn quiet_until(
 
 /// The cell as a constraint on the obstacle (its gap is seen from the robot at `seen_at`),
 /// with its representative; None when the obstacle cannot be in it.
-fn reach(chain: &Chain, cell: Cell, n: usize, seen_at: &Rational) -> Option<Reachable> {
-    let position = cell.gap.shifted(seen_at);
-    // The speed seen with X(n) is w_{n−1}; at n = 0 there is none (it reads 0).
-    let speed = if n == 0 { Interval::all() } else { cell.speed };
+fn reach(
+    chain: &Chain,
+    cell: Cell,
+    n: usize,
+    seen_at: &Rational,
+    sense: &Sense,
+    sight: Sight,
+) -> Option<Reachable> {
+    let position = sense.positions(&cell.gap, seen_at);
+    // The speed seen with X(n) is w_{n−1}; at n = 0 there is none (it reads 0 exactly).
+    let speed = if n == 0 {
+        Interval::all()
+    } else {
+        sense.speeds(&cell.speed)
+    };
     let chain = chain.constrain(n, &position, &speed)?;
     Some(Reachable {
         seen: cell.seen,
         chain,
-        position,
-        speed,
+        gap: cell.gap,
+        speed: cell.speed,
+        sight,
     })
 }
 
@@ -582,6 +802,7 @@ fn role(p: &SceneParams<Rational>, lateral: &Lateral, i: usize) -> Role {
 /// The thresholds for obstacle i at a step where the robot drives at `v`.
 fn thresholds(
     p: &SceneParams<Rational>,
+    sense: &Sense,
     v: &Rational,
     lateral: &Lateral,
     i: usize,
@@ -598,8 +819,11 @@ fn thresholds(
         (v.clone() + assumed) * Rational::int(lc.periods as i64) * p.robot.dt.clone()
             + p.robot.buffer.clone()
     });
-    let wrong =
-        p.robot.wrong_assumption_brake && !o.is_static && o.max_speed > p.robot.V_a && n >= 1;
+    // Some error shows a speed above V_a iff the true one can be above V_a − σ_w.
+    let wrong = p.robot.wrong_assumption_brake
+        && !o.is_static
+        && o.max_speed.clone() + sense.sigma_w.clone() > p.robot.V_a
+        && n >= 1;
     Thresholds {
         rho: p.robot.rho.clone(),
         danger: danger_distance(p.controller_for(i), v),
@@ -614,10 +838,11 @@ fn thresholds(
 }
 
 /// Whether no guard can fire again at or after this step: every obstacle of the lane the
-/// robot is in (or moving into) is already seen at a gap ≤ 0 whatever it did (observed gaps
-/// never grow), and there is no goal.
+/// robot is in (or moving into) is already at a true gap ≤ −σ_g whatever it did, so it is
+/// shown at a gap ≤ 0 whatever the error (true gaps never grow), and there is no goal.
 fn nothing_left(
     p: &SceneParams<Rational>,
+    sense: &Sense,
     profile: &mut Profile,
     node: &Node,
     lateral: &Lateral,
@@ -629,7 +854,7 @@ fn nothing_left(
             || node.chains[i]
                 .reach_at(n.max(node.chains[i].last_step()))
                 .hi
-                .is_some_and(|h| h.at <= seen_at)
+                .is_some_and(|h| h.at <= seen_at.clone() - sense.sigma_g.clone())
     })
 }
 

@@ -72,6 +72,14 @@ pub struct SceneModel {
 impl SceneModel {
     /// The model of a scene's exact numbers with each obstacle's speeds from `speeds`.
     pub fn new(params: SceneParams<Exact>, speeds: SceneSpeeds) -> Result<Self, ExploreError> {
+        if params.robot.noisy() || params.robot.d_det.is_some() {
+            return Err(ExploreError::Options(
+                "the scene explorer shows the robot every obstacle exactly from the start; \
+                 [sensing] settings are explored for single-obstacle problems only so far \
+                 (the run search decides scenes with them)"
+                    .into(),
+            ));
+        }
         if speeds.sets().len() != params.obstacles.len() {
             return Err(ExploreError::Options(format!(
                 "{} speed sets for {} obstacles",

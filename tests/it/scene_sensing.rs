@@ -1,0 +1,256 @@
+//! Scenes with `[sensing]` (docs/semantics.md §12 for every obstacle of a scene): the run
+//! search takes observation noise and occlusion, and is held to independent answers:
+//! - the single-obstacle schedule analyser (its own reductions, LP proofs, held in turn to
+//!   exhaustive searches over errors and hiding prefixes in `noise`): on a single-obstacle
+//!   problem read as a scene, the search gives its verdict and s*;
+//! - noise never helps: s* never rises with σ, and an empty `[sensing]` is today's answer;
+//! - every search certificate checks, its witness replaying with the errors and the first
+//!   sightings it states, and a witness edited to break a premise is rejected.
+
+use safereach::analysis::{Verdict, analyse};
+use safereach::core::model::{DangerRule, Problem, Sensing};
+use safereach::core::scene::Scene;
+use safereach::proof::search_certificate::{SearchCertificate, certify_by_search};
+use safereach::proof::search_check::check_search;
+
+use crate::noise::small_sensing;
+
+fn certify(scene: &Scene) -> SearchCertificate {
+    let cert = certify_by_search(scene).expect("searched");
+    check_search(&cert).unwrap_or_else(|e| panic!("{}: {e}", scene.to_toml_string()));
+    cert
+}
+
+/// s* with −∞ for a robot that never stops.
+fn star(cert: &SearchCertificate) -> Option<f64> {
+    if cert.never_stops {
+        Some(f64::NEG_INFINITY)
+    } else {
+        cert.min_separation
+    }
+}
+
+/// Small single-obstacle problems with noise, occlusion (first sighting inside the area or
+/// not) and both together, over every rule, latencies 0 and 1, W below and above V_a.
+fn sensing_problems() -> Vec<Problem> {
+    let rules = [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area];
+    let sensings = [
+        (0.03, 0.0, None),
+        (0.05, 0.06, None),
+        (0.0, 0.0, Some(0.5)),
+        (0.02, 0.03, Some(0.9)),
+    ];
+    small_sensing(&rules, &[0, 1], &[0.45, 0.8], &sensings)
+}
+
+#[test]
+fn the_search_gives_the_schedule_analysers_answers_under_noise_and_occlusion() {
+    let (mut refuted, mut hidden, mut errors) = (0, 0, 0);
+    for p in sensing_problems() {
+        p.validate("test").expect("a valid problem");
+        let text = p.to_toml_string();
+        let a = analyse(&p).expect("analysed");
+        let cert = certify(&Scene::from_problem(&p));
+        assert_eq!(cert.verdict, a.verdict, "{text}");
+        let analysed = if a.never_stops {
+            Some(f64::NEG_INFINITY)
+        } else {
+            a.min_separation
+        };
+        match (star(&cert), analysed) {
+            (Some(s), Some(m)) if s.is_infinite() || m.is_infinite() => {
+                assert_eq!(s, m, "{text}")
+            }
+            (Some(s), Some(m)) => assert!((s - m).abs() < 1e-7, "{text}: search {s}, analyser {m}"),
+            (s, m) => assert_eq!(s, m, "{text}"),
+        }
+        refuted += usize::from(cert.verdict == Verdict::Refuted);
+        let w = cert.witness.as_ref().expect("a witness");
+        hidden += usize::from(w.shown_from.iter().any(|s| s.is_none_or(|k| k > 1)));
+        errors += usize::from(!w.observation_errors.is_empty());
+    }
+    // The family is not trivial: some problems collide, some witnesses hide an obstacle
+    // past its first observation, some are shown off the truth.
+    assert!(refuted > 0, "nothing refuted");
+    assert!(hidden > 0, "no witness hides its obstacle");
+    assert!(errors > 0, "no witness has an observation error");
+}
+
+/// Two obstacles in the robot's lane, one static and one moving, with lane changes off and
+/// on: s* never rises with the noise bound or a later first sighting, and an empty
+/// `[sensing]` table changes nothing.
+#[test]
+fn noise_and_occlusion_never_help_in_a_scene() {
+    let base = r#"
+name = "two"
+[robot]
+max_speed = 0.4
+acceleration = 0.4
+braking = 0.5
+control_period = 0.2
+latency = 1
+clearance = 0.0
+[controller]
+assumed_obstacle_speed = 0.1
+reaction_radius = 1.0
+danger_rule = "paper"
+buffer = 0.05
+wrong_assumption_brake = true
+lane_change = LC
+lane_change_periods = 2
+lane_change_rear_gap = 0.2
+[scene]
+lanes = [0, 1]
+[[obstacle]]
+name = "walker"
+lane = 0
+position = 2.4
+max_speed = 0.15
+[[obstacle]]
+name = "parked"
+lane = 1
+position = 1.6
+max_speed = 0.0
+static = true
+"#;
+    for lc in ["false", "true"] {
+        let text = base.replace("LC", lc);
+        let read = |sensing: &str| {
+            let scene = Scene::from_toml_str(&format!("{text}{sensing}"), "test")
+                .unwrap_or_else(|e| panic!("{e}"));
+            star(&certify(&scene)).expect("measured")
+        };
+        let exact = read("");
+        assert_eq!(read("[sensing]\n"), exact, "lane_change = {lc}");
+        let mut last = exact;
+        for sg in [0.01, 0.03, 0.06] {
+            let s = read(&format!(
+                "[sensing]\ngap_noise = {sg}\nspeed_noise = {sg}\n"
+            ));
+            assert!(
+                s <= last + 1e-12,
+                "lane_change = {lc}: σ = {sg} gives {s} > {last}"
+            );
+            last = s;
+        }
+        let mut last = exact;
+        for d in [1.4, 0.9, 0.5] {
+            let s = read(&format!("[sensing]\nfirst_detection_gap = {d}\n"));
+            assert!(
+                s <= last + 1e-12,
+                "lane_change = {lc}: d_det = {d} gives {s} > {last}"
+            );
+            last = s;
+        }
+    }
+}
+
+/// A search witness that hides an obstacle or shows it off the truth is held to the
+/// premises: an error beyond σ, or a first sighting moved to a later step, is rejected.
+#[test]
+fn a_witness_that_breaks_a_sensing_premise_is_rejected() {
+    let mut edited = 0;
+    for p in sensing_problems() {
+        let cert = certify(&Scene::from_problem(&p));
+        let w = cert.witness.as_ref().expect("a witness");
+        if let Some(e) = w.observation_errors.first() {
+            let mut bad = cert.clone();
+            let sigma = p.gap_noise();
+            bad.witness.as_mut().unwrap().observation_errors[0].gap =
+                format!("{}", (sigma * 1000.0).round() as i64 * 2) + "/1000";
+            bad.digest = bad.compute_digest();
+            assert!(
+                check_search(&bad).is_err(),
+                "error {:?} doubled past σ accepted",
+                e
+            );
+            edited += 1;
+        }
+        if let Some(Some(k)) = w.shown_from.first() {
+            let mut bad = cert.clone();
+            bad.witness.as_mut().unwrap().shown_from[0] = Some(k + 40);
+            bad.digest = bad.compute_digest();
+            assert!(
+                check_search(&bad).is_err(),
+                "a first sighting 40 steps later accepted"
+            );
+            edited += 1;
+        }
+    }
+    assert!(edited > 10, "only {edited} witnesses edited");
+}
+
+/// `[sensing]` in a scene file reads, writes back and is refused with the key and reason
+/// when out of range.
+#[test]
+fn a_scene_reads_its_sensing_table() {
+    let text = std::fs::read_to_string(crate::common::paths::problem_file("seed-lanes.toml"))
+        .expect("the shipped scene");
+    let with = format!("{text}\n[sensing]\ngap_noise = 0.02\nfirst_detection_gap = 0.8\n");
+    let scene = Scene::from_toml_str(&with, "lanes.toml").expect("reads");
+    assert_eq!(
+        scene.sensing,
+        Some(Sensing {
+            gap_noise: Some(0.02),
+            speed_noise: None,
+            first_detection_gap: Some(0.8),
+        })
+    );
+    let back = Scene::from_toml_str(&scene.to_toml_string(), "back").expect("reads back");
+    assert_eq!(back, scene);
+    let bad = format!("{text}\n[sensing]\ngap_noise = -0.02\n");
+    let err = Scene::from_toml_str(&bad, "lanes.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("lanes.toml") && err.contains("sensing.gap_noise"),
+        "{err}"
+    );
+}
+
+/// A range of initial gaps with `[sensing]` (refused before scenes took sensing): the
+/// problem is read as its scene, and its s* is never above the schedule analyser's at any
+/// start in the range; a one-point range is that start's answer exactly.
+#[test]
+fn a_range_of_initial_gaps_takes_sensing_settings() {
+    for p in sensing_problems().into_iter().step_by(7) {
+        let at = |g0: f64| {
+            let mut q = p.clone();
+            q.environment.initial_gap = safereach::core::model::Position::At(g0);
+            analyse(&q).expect("analysed")
+        };
+        let mut ranged = p.clone();
+        ranged.environment.initial_gap = safereach::core::model::Position::Range(1.1, 1.3);
+        ranged
+            .validate("test")
+            .expect("a range with sensing is valid");
+        let cert = certify(&Scene::from_problem(&ranged));
+        let worst = star(&cert).expect("measured");
+        for g0 in [1.1, 1.15, 1.2, 1.25, 1.3] {
+            let a = at(g0);
+            let s = if a.never_stops {
+                f64::NEG_INFINITY
+            } else {
+                a.min_separation.expect("measured")
+            };
+            assert!(
+                worst <= s + 1e-9,
+                "{}: range {worst} above g0 = {g0}'s {s}",
+                p.to_toml_string()
+            );
+        }
+        ranged.environment.initial_gap = safereach::core::model::Position::Range(1.2, 1.2);
+        let point = certify(&Scene::from_problem(&ranged));
+        let s = star(&point).expect("measured");
+        let a = at(1.2);
+        let m = if a.never_stops {
+            f64::NEG_INFINITY
+        } else {
+            a.min_separation.unwrap()
+        };
+        assert!(
+            s == m || (s - m).abs() < 1e-7,
+            "one-point range {s}, start {m}"
+        );
+    }
+}
