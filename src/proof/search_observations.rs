@@ -50,7 +50,7 @@ pub fn observations_of(
             leaf.sights
                 .iter()
                 .map(|s| match *s {
-                    Sight::Shown { from } => Some(from + l),
+                    Sight::Shown { from, .. } => Some(from + l),
                     // Undecided at the leaf: shown at its first undecided observation,
                     // which the leaf holds to d_det; hidden through the brake otherwise.
                     Sight::Hidden { since } if since <= now => Some(since + l),

@@ -254,3 +254,17 @@ fn a_range_of_initial_gaps_takes_sensing_settings() {
         );
     }
 }
+
+/// The shipped lane-change scene with a pedestrian-like first sighting inside ρ: decided
+/// (a far hidden obstacle does not start a new lineage of runs at every read), certified,
+/// and never above the exact answer.
+#[test]
+fn the_lane_change_scene_is_decided_with_occlusion_inside_the_area() {
+    let file = crate::common::paths::problem_file("seed-lanes.toml");
+    let exact = Scene::load(&file).expect("the shipped scene");
+    let sets = ["sensing.first_detection_gap=0.8".to_string()];
+    let occluded = Scene::load_with_overrides(&file, &sets).expect("reads");
+    let (e, o) = (certify(&exact), certify(&occluded));
+    assert_eq!(o.verdict, Verdict::Certified);
+    assert!(star(&o).unwrap() <= star(&e).unwrap());
+}

@@ -30,6 +30,9 @@ pub enum Sight {
     Shown {
         /// The observation step of its first sighting.
         from: usize,
+        /// Every read since then showed it beyond ρ, where no guard reads it (see
+        /// `tree::far_cell`: its next far read is dominated).
+        far_only: bool,
     },
     /// Hidden at every read observation before step `since` (observation steps: the gap at
     /// `since`·dt), and not read since.
@@ -69,7 +72,10 @@ impl Sense {
     pub fn initial(&self) -> Sight {
         match self.d_det {
             Some(_) => Sight::Hidden { since: 0 },
-            None => Sight::Shown { from: 0 },
+            None => Sight::Shown {
+                from: 0,
+                far_only: false,
+            },
         }
     }
 

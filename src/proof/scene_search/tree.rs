@@ -243,17 +243,29 @@ pub fn walk(
             let sight = node.sights[i];
             let base = shown_base(p, &sense, profile, &node.chains[i], sight);
             let cells_here = match (n, &seen_at) {
-                (Some(n), Some(seen_at)) if role != Role::Ignored => {
+                (Some(n), Some(seen_at))
+                    if role != Role::Ignored
+                        && !hidden_and_far(p, &sense, &node, i, n, seen_at) =>
+                {
                     let th = thresholds(p, &sense, &robot.speed, &lateral, i, n);
-                    let from = match sight {
-                        Sight::Shown { from } => from,
-                        Sight::Hidden { since } => since,
+                    let (from, far_only) = match sight {
+                        Sight::Shown { from, far_only } => (from, far_only),
+                        Sight::Hidden { since } => (since, true),
                     };
                     let mut here: Vec<Reachable> = match &base {
                         Some(base) => cells(role, &th)
                             .into_iter()
                             .filter_map(|cell| {
-                                reach(base, cell, n, seen_at, &sense, Sight::Shown { from })
+                                let far = far_cell(p, &sense, &cell);
+                                if far && matches!(sight, Sight::Shown { far_only: true, .. }) {
+                                    // Dominated: see `far_cell`.
+                                    return None;
+                                }
+                                let after = Sight::Shown {
+                                    from,
+                                    far_only: far_only && far,
+                                };
+                                reach(base, cell, n, seen_at, &sense, after)
                             })
                             .collect(),
                         None => Vec::new(),
@@ -421,6 +433,55 @@ fn shown_base(
             chain.constrain(since, &sense.detectable(&at), &Interval::all())
         }
     }
+}
+
+/// Whether `cell` shows the obstacle beyond ρ, where no guard reads it (as if hidden), and
+/// every truth it allows is showable (ρ − σ_g ≥ d_det; never without occlusion).
+///
+/// An obstacle first shown in such a cell at read m and read only in such cells since
+/// (`far_only`) needs nothing from the run that the lineage hiding it at m and showing it
+/// first at the next read does not also allow: hidden at m asks a true gap ≥ d_det, which
+/// the far cell implies, and showing it first later asks a true gap ≥ d_det at an
+/// observation where the far cell is read again. The commands are the same, so a
+/// `far_only` obstacle's far cell at its next read is dominated and left out: exact for
+/// s* (every behaviour left out is in a run kept, with the same robot motion), and it keeps
+/// a hidden obstacle from starting a new lineage of runs at every read.
+fn far_cell(p: &SceneParams<Rational>, sense: &Sense, cell: &Cell) -> bool {
+    let Some(d) = &sense.d_det else {
+        return false;
+    };
+    let beyond_rho = cell.gap.hi.is_none()
+        && cell
+            .gap
+            .lo
+            .as_ref()
+            .is_some_and(|lo| lo.at >= p.robot.rho && !(lo.at == p.robot.rho && lo.closed));
+    beyond_rho && *d <= p.robot.rho.clone() - sense.sigma_g.clone()
+}
+
+/// Whether obstacle i is still hidden at read n while every error would show it beyond ρ
+/// (a true gap > ρ + σ_g whatever it did): showing it then could not change any command,
+/// and it is showable (ρ + σ_g ≥ d_det), so the read is as if unread and its sight stays
+/// undecided (see [`super::sense`]). Exact, and it keeps far hidden obstacles from
+/// splitting the run at every read of a near one.
+fn hidden_and_far(
+    p: &SceneParams<Rational>,
+    sense: &Sense,
+    node: &Node,
+    i: usize,
+    n: usize,
+    seen_at: &Rational,
+) -> bool {
+    let Sight::Hidden { .. } = node.sights[i] else {
+        return false;
+    };
+    let chain = &node.chains[i];
+    let far = p.robot.rho.clone() + sense.sigma_g.clone() + seen_at.clone();
+    let showable = sense
+        .d_det
+        .as_ref()
+        .is_some_and(|d| *d <= p.robot.rho.clone() + sense.sigma_g.clone());
+    showable && n >= chain.last_step() && chain.reach_at(n).lo.is_some_and(|lo| lo.at > far)
 }
 
 /// At a leaf reached at step k: every obstacle still undecided was first shown at its
