@@ -447,6 +447,155 @@ fn the_seed_network_agrees_with_the_explorer() {
     assert!(g.states > e.states, "the network has no state abstraction");
 }
 
+/// What the interpreter and the explorer answer on the same finite model, compared: the
+/// verdict, the shortest collision period and (when safe) the minimum separation. Returns
+/// the verdict.
+fn agree(p: &Problem, speeds: &str, what: &str) -> ExploreVerdict {
+    let set = SpeedSet::parse(speeds, &p.params::<Exact>().W).unwrap();
+    let m = uppaal::export(p, &set).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let g = uppaal::explore_grid(&m, &Options::default()).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let e = explore::explore(p, set, &Options::default()).unwrap();
+    assert!(g.complete && e.complete, "{what}");
+    assert_eq!(g.verdict, e.verdict, "{what}: verdict");
+    assert_eq!(
+        g.collision_period,
+        e.counterexample.as_ref().map(|c| c.periods()),
+        "{what}: shortest path to a collision, in periods"
+    );
+    if e.verdict == ExploreVerdict::Safe {
+        assert_eq!(g.min_separation, e.min_separation, "{what}: separation");
+    }
+    g.verdict
+}
+
+/// The small problems of the agreement tests, with `change` applied: every danger rule,
+/// latencies 0–2, W below V_a (guard active) and above it (with and without the guard).
+fn sweep(change: impl Fn(&mut Problem), label: &str) -> BTreeSet<String> {
+    let mut verdicts = BTreeSet::new();
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..=2 {
+            for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3), (0.3, false, 1.0)] {
+                let mut p = small(rule, latency, w, wab, rho, 1.2);
+                change(&mut p);
+                p.validate("uppaal-test").expect("a valid test problem");
+                let what = format!("{label}: {rule} L={latency} W={w} wab={wab} rho={rho}");
+                verdicts.insert(format!("{:?}", agree(&p, "3", &what)));
+            }
+        }
+    }
+    verdicts
+}
+
+#[test]
+fn weaker_brakes_and_a_moving_start_agree_with_the_explorer() {
+    let weaker = sweep(|p| p.robot.braking_min = Some(0.3), "braking_min 0.3");
+    let moving = sweep(|p| p.robot.initial_speed = Some(0.2), "initial_speed 0.2");
+    let cruising = sweep(
+        |p| {
+            p.robot.initial_speed = Some(0.4);
+            p.robot.braking_min = Some(0.4);
+        },
+        "initial_speed v_max, braking_min 0.4",
+    );
+    for v in [weaker, moving, cruising] {
+        assert_eq!(v.len(), 2, "both safe and colliding problems: {v:?}");
+    }
+}
+
+#[test]
+fn weaker_brakes_and_a_moving_start_are_declared_and_used() {
+    let mut p = small(DangerRule::Kinematic, 1, 0.1, true, 0.6, 1.2);
+    p.robot.braking_min = Some(0.3);
+    p.robot.initial_speed = Some(0.2);
+    let m = export(&p, "3");
+    let c = constants(&m);
+    let d = Exact::from(m.grid.scale.clone());
+    let x = p.params::<Exact>();
+    let on = |k: &str| Exact::from(c[k]) / d.clone();
+    assert_eq!(on("BRK"), x.b.clone() * x.dt.clone() * x.dt.clone());
+    assert_eq!(on("BRKMIN"), x.b_min.clone() * x.dt.clone() * x.dt.clone());
+    assert_eq!(on("V0"), x.v0.clone() * x.dt.clone());
+    let text = declaration(&m);
+    // The controller's b in the danger distance, the plant's b_min in the motion.
+    assert!(text.contains("2 * (observedGap() - BUFFER) * BRK <= v * v + 2 * VA * v;"));
+    assert!(
+        text.contains("endPeriod(v - BRKMIN / 2, v - BRKMIN);"),
+        "{text}"
+    );
+    assert!(text.contains("v = V0;"));
+    check_structure(&m.xml);
+    // At top speed the robot starts in Drive.
+    p.robot.initial_speed = Some(0.4);
+    let m = export(&p, "3");
+    let robot = &m.network.templates[0];
+    assert_eq!(robot.locations[robot.edges[0].target].name, "Drive");
+    // Without them, neither constant is written: the seed's file is unchanged.
+    let plain = declaration(&export(&seed(), "5"));
+    assert!(!plain.contains("BRKMIN") && !plain.contains("V0"));
+}
+
+/// A network whose danger distance used the plant's b_min instead of the controller's b
+/// would answer differently from the explorer: the comparison catches it.
+#[test]
+fn a_danger_distance_with_the_plants_braking_is_caught() {
+    let mut caught = 0;
+    for rule in [DangerRule::Paper, DangerRule::Kinematic] {
+        for latency in 0..=2 {
+            let mut p = small(rule, latency, 0.1, true, 1.0, 1.2);
+            p.robot.braking_min = Some(0.2);
+            let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+            let m = uppaal::export(&p, &set).unwrap();
+            let broken = with_decl(&m, |d| {
+                if let Decl::Func(f) = d
+                    && f.name == "collisionDanger"
+                {
+                    let text = format!("{:?}", f.body);
+                    assert!(text.contains("Name(\"BRK\")"), "{text}");
+                    f.body = rename(&f.body, "BRK", "BRKMIN");
+                }
+            });
+            let g = uppaal::explore_grid(&broken, &Options::default()).unwrap();
+            let e = explore::explore(&p, set, &Options::default()).unwrap();
+            if (g.verdict, g.collision_period, g.min_separation)
+                != (
+                    e.verdict,
+                    e.counterexample.as_ref().map(|c| c.periods()),
+                    e.min_separation.clone(),
+                )
+            {
+                caught += 1;
+            }
+        }
+    }
+    assert!(caught > 0, "the broken danger distance went unnoticed");
+}
+
+/// `stmts` with every use of the name `from` replaced by `to`.
+fn rename(stmts: &[uppaal::Stmt], from: &str, to: &'static str) -> Vec<uppaal::Stmt> {
+    use uppaal::{Expr, Stmt};
+    fn expr(e: &Expr, from: &str, to: &'static str) -> Expr {
+        match e {
+            Expr::Name(x) if *x == from => Expr::Name(to),
+            Expr::Elem(a, i) => Expr::Elem(a, Box::new(expr(i, from, to))),
+            Expr::Call(f, args) => Expr::Call(f, args.iter().map(|a| expr(a, from, to)).collect()),
+            Expr::Not(a) => Expr::Not(Box::new(expr(a, from, to))),
+            Expr::Bin(op, a, b) => Expr::Bin(
+                *op,
+                Box::new(expr(a, from, to)),
+                Box::new(expr(b, from, to)),
+            ),
+            other => other.clone(),
+        }
+    }
+    stmts
+        .iter()
+        .map(|s| match s {
+            Stmt::Return(e) => Stmt::Return(expr(e, from, to)),
+            other => other.clone(),
+        })
+        .collect()
+}
+
 fn with_decl(m: &UppaalModel, change: impl Fn(&mut Decl)) -> UppaalModel {
     let mut m = m.clone();
     for d in &mut m.network.declarations {

@@ -27,8 +27,13 @@ pub struct Grid {
     pub v_max: i64,
     /// a·dt²·D (speed gained per period while accelerating).
     pub acc: i64,
-    /// b·dt²·D (speed lost per period while braking).
+    /// b·dt²·D: the controller's braking, in its danger distance d_coll.
     pub brk: i64,
+    /// b_min·dt²·D: speed the plant loses per period while braking (docs/semantics.md §12:
+    /// every engine brakes the plant at b_min, its worst case); `brk` when b_min = b.
+    pub brk_min: i64,
+    /// v0·dt·D: the robot's speed at t = 0.
+    pub v0: i64,
     /// V_a·dt·D.
     pub v_a: i64,
     /// ⌊ρ·D⌋.
@@ -62,8 +67,9 @@ pub(super) fn to_int(x: &Exact, what: &str) -> Result<i64, UppaalError> {
     })
 }
 
-/// The drive profile's speeds: every speed the robot can brake from (0, then one per
-/// control period until v_max).
+/// The drive profile of a scene's robot: [`single_drive_profile`], for a robot that starts
+/// at rest, brakes at exactly b and observes a visible obstacle exactly (the scene export
+/// does not take the other settings yet).
 pub(super) fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
     if p.noisy() || p.d_det.is_some() {
         return Err(UppaalError::Grid(
@@ -74,13 +80,20 @@ pub(super) fn drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError
     }
     if p.v0 != Exact::ZERO || p.b_min != p.b {
         return Err(UppaalError::Grid(
-            "the UPPAAL export models a robot that starts at rest and brakes at exactly \
-             robot.braking; robot.initial_speed and robot.braking_min are not exported yet"
+            "the scene UPPAAL export models a robot that starts at rest and brakes at exactly \
+             robot.braking; robot.initial_speed and robot.braking_min are not exported for \
+             scenes yet"
                 .into(),
         ));
     }
-    let mut drive = vec![Exact::ZERO];
+    single_drive_profile(p)
+}
+
+/// The drive profile's speeds: every speed the robot can brake from (v0, then one per
+/// control period until v_max; just v_max for a robot that starts at top speed).
+pub(super) fn single_drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, UppaalError> {
     let mut state = RobotState::initial(p);
+    let mut drive = vec![state.speed.clone()];
     while state.speed < p.v_max {
         if drive.len() > MAX_PROFILE {
             return Err(UppaalError::Grid(format!(
@@ -106,23 +119,29 @@ fn grid_quantities(p: &Params<Exact>, drive: &[Exact], speeds: &SpeedSet) -> Vec
         p.V_a.clone() * dt.clone(),
         p.a.clone() * dt.clone() * dt.clone() / two.clone(),
         p.b.clone() * dt.clone() * dt.clone() / two.clone(),
+        p.b_min.clone() * dt.clone() * dt.clone() / two.clone(),
+        p.v0.clone() * dt.clone(),
     ];
     need.extend(speeds.speeds().iter().map(|w| w.clone() * dt.clone()));
-    // The period in which the robot reaches v_max: v_max·dt − (v_max − u)²/(2a).
-    let before_top = drive[drive.len() - 2].clone();
-    let gap_to_top = p.v_max.clone() - before_top;
-    need.push(gap_to_top.clone() * gap_to_top / (two.clone() * p.a.clone()));
-    // The last, partial braking period from every speed the robot can brake from.
-    let bdt = p.b.clone() * dt.clone();
+    // The period in which the robot reaches v_max: v_max·dt − (v_max − u)²/(2a) (none for a
+    // robot that starts at top speed).
+    if drive.len() >= 2 {
+        let before_top = drive[drive.len() - 2].clone();
+        let gap_to_top = p.v_max.clone() - before_top;
+        need.push(gap_to_top.clone() * gap_to_top / (two.clone() * p.a.clone()));
+    }
+    // The last, partial braking period from every speed the robot can brake from, braking
+    // at the plant's b_min.
+    let bdt = p.b_min.clone() * dt.clone();
     let mut last: BTreeSet<Exact> = BTreeSet::new();
     for u in drive.iter().filter(|u| **u > Exact::ZERO) {
         let periods = Exact::from((u.clone() / bdt.clone()).ceil());
         last.insert(u.clone() - (periods - Exact::ONE) * bdt.clone());
     }
     for r in &last {
-        need.push(r.clone() * r.clone() / (two.clone() * p.b.clone()));
+        need.push(r.clone() * r.clone() / (two.clone() * p.b_min.clone()));
         for w in speeds.speeds() {
-            need.push(w.clone() * r.clone() / p.b.clone());
+            need.push(w.clone() * r.clone() / p.b_min.clone());
         }
     }
     need
@@ -138,7 +157,14 @@ impl Grid {
                     .into(),
             ));
         }
-        let drive = drive_profile(&p)?;
+        if p.noisy() || p.d_det.is_some() {
+            return Err(UppaalError::Grid(
+                "the UPPAAL export models exact observations of a visible obstacle; \
+                 the [sensing] settings are not exported yet"
+                    .into(),
+            ));
+        }
+        let drive = single_drive_profile(&p)?;
         let need = grid_quantities(&p, &drive, speeds);
         let scale = need.iter().fold(UBig::ONE, |d, x| lcm(&d, x.denominator()));
         let grid = Self::scaled(&p, speeds, scale)?;
@@ -156,6 +182,11 @@ impl Grid {
         let v_max = to_int(&on_grid(p.v_max.clone() * dt.clone()), "v_max·dt")?;
         let acc = to_int(&on_grid(p.a.clone() * dt.clone() * dt.clone()), "a·dt²")?;
         let brk = to_int(&on_grid(bdt.clone() * dt.clone()), "b·dt²")?;
+        let brk_min = to_int(
+            &on_grid(p.b_min.clone() * dt.clone() * dt.clone()),
+            "b_min·dt²",
+        )?;
+        let v0 = to_int(&on_grid(p.v0.clone() * dt.clone()), "v0·dt")?;
         let v_a = to_int(&on_grid(p.V_a.clone() * dt.clone()), "V_a·dt")?;
         let rho_exact = Exact::from(on_grid(p.rho.clone()).floor());
         let rho = to_int(&rho_exact, "the reaction radius")?;
@@ -175,6 +206,8 @@ impl Grid {
             v_max,
             acc,
             brk,
+            brk_min,
+            v0,
             v_a,
             rho,
             buffer,
@@ -211,7 +244,8 @@ impl Grid {
             ),
             (
                 "the rest gap's v·(2·w + v)",
-                i128::from(self.brk) * (2 * i128::from(self.w_max()) + i128::from(self.brk)),
+                i128::from(self.brk_min)
+                    * (2 * i128::from(self.w_max()) + i128::from(self.brk_min)),
             ),
             (
                 "the top-speed step's (VMAX - v)²",

@@ -14,13 +14,15 @@
 //! - time: one model time unit is one control period dt (the obstacle's clock `x`);
 //! - distances (gap, thresholds): metres × D;
 //! - speeds: distance per period, metres/second × dt × D; accelerations: the speed change per
-//!   period, a·dt²·D and b·dt²·D.
+//!   period, a·dt²·D, b·dt²·D (the controller's b, in d_coll) and b_min·dt²·D (the plant's
+//!   braking, `BRKMIN`, written only when b_min < b).
 //!
 //! D is the least common multiple of the denominators of every quantity the model's integer
-//! arithmetic produces: the initial gap, clearance, buffer, v_max·dt, V_a·dt, a·dt²/2, b·dt²/2,
-//! each obstacle speed × dt, the distance of the step in which the robot reaches v_max, and
-//! for every speed the robot can brake from, the distance it and each obstacle speed cover in
-//! the last, partial braking period. With that D every position the model reaches is an
+//! arithmetic produces: the initial gap, clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2,
+//! b·dt²/2, b_min·dt²/2, each obstacle speed × dt, the distance of the step in which the robot
+//! reaches v_max (none when it starts at v_max), and for every speed the robot can brake from
+//! (v0, then one per period until v_max), the distance it and each obstacle speed cover in
+//! the last, partial braking period at b_min. With that D every position the model reaches is an
 //! integer and every division in the model is exact — the grid model is the rational model
 //! scaled by D, behaviour for behaviour. The reaction radius is the one number that need not
 //! be on the grid: `observed ≤ ρ` is written `observed ≤ ⌊ρ·D⌋`, which is the same condition
@@ -35,6 +37,15 @@
 //!   period's start (channel `decide`) it evaluates `collisionDanger() || wrongAssumption()`
 //!   on its delayed observation and moves to Brake or stays; at the period's end (channel
 //!   `advance`) it moves by the exact distance of its mode.
+//!
+//!   *Weaker brakes and a moving start* (docs/semantics.md §12). The danger distance keeps
+//!   the controller's `BRK`; the plant brakes at `BRKMIN` = b_min·dt²·D (`brake()`,
+//!   `stop()` and the Brake edges' guards), the worst case of [b_min, b] that every engine
+//!   takes. A robot with `V0` = v0·dt·D > 0 leaves Idle for Accelerate, or for Drive when
+//!   v0 = v_max (`RobotState::initial`); `v = V0` is set by the obstacle's `initialise()`,
+//!   not on the robot's first edge, because the two committed first edges fire in either
+//!   order and a moving robot must never meet the gap's placeholder 0. Neither constant is
+//!   written when the setting is at its default, so those exports are unchanged.
 //! - `Obstacle`: Init → Idle ⇄ Move, the seed's obstacle automaton. Init stores the initial
 //!   gap; from Idle it selects its speed for the period from the set (`decide!`), and Move
 //!   lasts one time unit (`advance!` at x == 1).

@@ -18,13 +18,13 @@ pub(super) fn network(problem: &Problem, grid: &Grid, speeds: &SpeedSet) -> Netw
     let mut declarations = constants(problem, grid, speeds);
     declarations.extend(variables(grid));
     declarations.extend(guard_functions(grid.rule));
-    declarations.extend(period_functions());
-    declarations.extend(motion_functions());
+    declarations.extend(period_functions(grid));
+    declarations.extend(motion_functions(plant_brake(grid)));
     Network {
         header: header(problem, grid, speeds),
         declarations,
         templates: vec![
-            robot_template(),
+            robot_template(grid),
             obstacle_template(grid.speeds.len() as i64),
         ],
         system_comment: "One robot, one obstacle on its lane.".into(),
@@ -66,7 +66,7 @@ fn header(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> String {
 /// The grid's constants (with the comment above them) and the channels.
 fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
     let dt = problem.robot.control_period;
-    vec![
+    let mut out = vec![
         Decl::Comment(format!(
             "Problem \"{}\" on the integer grid: 1 distance unit = 1/{} m, 1 time unit = {} s,\n\
              speeds in distance units per period. Exact: see the file's header comment.\n\
@@ -89,6 +89,19 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
             g.brk,
             "speed lost per period while braking, b * dt^2",
         ),
+    ];
+    if g.brk_min != g.brk {
+        out.push(constant(
+            "BRKMIN",
+            g.brk_min,
+            "speed the plant loses per period while braking, b_min * dt^2 (its worst case;\n\
+             BRK, the controller's b, stays in the danger distance)",
+        ));
+    }
+    if g.v0 != 0 {
+        out.push(constant("V0", g.v0, "the robot's speed at t = 0, v0 * dt"));
+    }
+    out.extend([
         constant("VA", g.v_a, "assumed obstacle speed bound V_a * dt"),
         constant("RHO", g.rho, "reaction radius floor(rho)"),
         constant("BUFFER", g.buffer, "danger buffer"),
@@ -117,7 +130,14 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
             "lowest gap reachable before the network stops",
         ),
         Decl::Chans(vec!["decide", "advance"]),
-    ]
+    ]);
+    out
+}
+
+/// The name of the plant's braking constant: `BRKMIN` when the plant may brake weaker than
+/// the controller's b, else `BRK`.
+fn plant_brake(g: &Grid) -> &'static str {
+    if g.brk_min != g.brk { "BRKMIN" } else { "BRK" }
 }
 
 /// The variables: the gap, the speeds, the observation history, the rest.
@@ -303,24 +323,23 @@ fn collision_danger(rule: DangerRule) -> Decl {
 
 /// The period's bookkeeping: the initial gap, and the end of a period (the gap, the speed,
 /// the shifted observation history).
-fn period_functions() -> Vec<Decl> {
+fn period_functions(g: &Grid) -> Vec<Decl> {
+    let mut init = vec![Stmt::Set("gap", n("G0"))];
+    let mut init_doc = "Obstacle.Init: store the initial gap.";
+    if g.v0 != 0 {
+        // Here rather than on the robot's first edge: the two committed first edges may
+        // fire in either order, and a moving robot must not meet the gap's placeholder 0.
+        init.push(Stmt::Set("v", n("V0")));
+        init_doc = "Obstacle.Init: store the initial gap and the robot's initial speed.";
+    }
+    init.push(Stmt::For {
+        var: "j",
+        from: int(0),
+        up_to: Some(n("L")),
+        body: vec![Stmt::SetElem("gapAt", n("j"), n("G0"))],
+    });
     vec![
-        func(
-            "Obstacle.Init: store the initial gap.",
-            Ty::Void,
-            "initialise",
-            &[],
-            &["j"],
-            vec![
-                Stmt::Set("gap", n("G0")),
-                Stmt::For {
-                    var: "j",
-                    from: int(0),
-                    up_to: Some(n("L")),
-                    body: vec![Stmt::SetElem("gapAt", n("j"), n("G0"))],
-                },
-            ],
-        ),
+        func(init_doc, Ty::Void, "initialise", &[], &["j"], init),
         func(
             "End of a period: the robot moved dx and ends at speed vEnd, the obstacle moved w;\n\
              shift the observation history (w is cleared: it is chosen anew each period).",
@@ -354,7 +373,13 @@ fn period_functions() -> Vec<Decl> {
 }
 
 /// The robot's motion over one period, one function per mode (each ends the period).
-fn motion_functions() -> Vec<Decl> {
+/// `brk` names the plant's braking constant (`BRK`, or `BRKMIN` when it is weaker).
+fn motion_functions(brk: &'static str) -> Vec<Decl> {
+    let brake_doc = if brk == "BRK" {
+        "Brake for a whole period: distance v - BRK/2."
+    } else {
+        "Brake for a whole period at the plant's b_min: distance v - BRKMIN/2."
+    };
     vec![
         func(
             "Accelerate for a whole period: distance v + ACC/2.",
@@ -396,25 +421,32 @@ fn motion_functions() -> Vec<Decl> {
             vec![Stmt::Call("endPeriod", vec![n("VMAX"), n("VMAX")])],
         ),
         func(
-            "Brake for a whole period: distance v - BRK/2.",
+            brake_doc,
             Ty::Void,
             "brake",
             &[],
             &[],
             vec![Stmt::Call(
                 "endPeriod",
-                vec![sub(n("v"), div(n("BRK"), int(2))), sub(n("v"), n("BRK"))],
+                vec![sub(n("v"), div(n(brk), int(2))), sub(n("v"), n(brk))],
             )],
         ),
-        stop_function(),
+        stop_function(brk),
     ]
 }
 
 /// `stop()`: the robot comes to rest inside the period; the gap at that instant is kept.
-fn stop_function() -> Decl {
-    func(
+fn stop_function(brk: &'static str) -> Decl {
+    let doc = if brk == "BRK" {
         "Come to rest after v/BRK of the period, having moved v^2/(2*BRK) while the\n\
-         obstacle moved w*v/BRK: the gap at that instant is recorded.",
+         obstacle moved w*v/BRK: the gap at that instant is recorded."
+    } else {
+        "Come to rest after v/BRKMIN of the period (the plant brakes at b_min), having\n\
+         moved v^2/(2*BRKMIN) while the obstacle moved w*v/BRKMIN: the gap at that instant\n\
+         is recorded."
+    };
+    func(
+        doc,
         Ty::Void,
         "stop",
         &[],
@@ -430,7 +462,7 @@ fn stop_function() -> Decl {
                             n("gap"),
                             div(
                                 mul(n("v"), add(mul(int(2), n("w")), n("v"))),
-                                mul(int(2), n("BRK")),
+                                mul(int(2), n(brk)),
                             ),
                         ),
                     ),
@@ -439,7 +471,7 @@ fn stop_function() -> Decl {
             ),
             Stmt::Call(
                 "endPeriod",
-                vec![div(mul(n("v"), n("v")), mul(int(2), n("BRK"))), int(0)],
+                vec![div(mul(n("v"), n("v")), mul(int(2), n(brk))), int(0)],
             ),
         ],
     )
@@ -511,12 +543,13 @@ fn edge(source: usize, target: usize) -> Edge {
     }
 }
 
-fn robot_template() -> Template {
+fn robot_template(g: &Grid) -> Template {
     const IDLE: usize = 0;
     const ACC: usize = 1;
     const DRIVE: usize = 2;
     const BRAKE: usize = 3;
     const STOP: usize = 4;
+    let brk = plant_brake(g);
     let loc = |name, kind, xy| Location {
         name,
         invariant: None,
@@ -554,7 +587,8 @@ fn robot_template() -> Template {
         ],
         init: IDLE,
         edges: vec![
-            edge(IDLE, ACC),
+            // The robot starts in Drive at top speed, else in Accelerate (RobotState::initial).
+            edge(IDLE, if g.v0 >= g.v_max { DRIVE } else { ACC }),
             keep(ACC),
             to_brake(ACC),
             keep(DRIVE),
@@ -576,8 +610,8 @@ fn robot_template() -> Template {
                 "reachTopSpeed",
             ),
             mv(DRIVE, DRIVE, None, "drive"),
-            mv(BRAKE, BRAKE, Some(bin(Op::Gt, n("v"), n("BRK"))), "brake"),
-            mv(BRAKE, STOP, Some(bin(Op::Le, n("v"), n("BRK"))), "stop"),
+            mv(BRAKE, BRAKE, Some(bin(Op::Gt, n("v"), n(brk))), "brake"),
+            mv(BRAKE, STOP, Some(bin(Op::Le, n("v"), n(brk))), "stop"),
         ],
     }
 }
