@@ -16,7 +16,7 @@
 use std::collections::{BTreeSet, HashMap};
 
 use roxmltree::{Document, Node};
-use safereach::core::model::{Controller, DangerRule, Problem};
+use safereach::core::model::{Controller, DangerRule, Position, Problem};
 use safereach::core::num::Exact;
 use safereach::crosscheck::explore::{self, ExploreVerdict, Options, SpeedSet};
 use safereach::crosscheck::uppaal::{self, Decl, UppaalError, UppaalModel};
@@ -451,10 +451,19 @@ fn the_seed_network_agrees_with_the_explorer() {
 /// verdict, the shortest collision period and (when safe) the minimum separation. Returns
 /// the verdict.
 fn agree(p: &Problem, speeds: &str, what: &str) -> ExploreVerdict {
+    agree_from(p, speeds, explore::DEFAULT_STARTS, what)
+}
+
+/// [`agree`] with `starts` starts in a range of initial gaps.
+fn agree_from(p: &Problem, speeds: &str, starts: usize, what: &str) -> ExploreVerdict {
     let set = SpeedSet::parse(speeds, &p.params::<Exact>().W).unwrap();
-    let m = uppaal::export(p, &set).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let m = uppaal::export_with_starts(p, &set, starts).unwrap_or_else(|e| panic!("{what}: {e}"));
     let g = uppaal::explore_grid(&m, &Options::default()).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let e = explore::explore(p, set, &Options::default()).unwrap();
+    let model = explore::FiniteModel::new(p, set)
+        .with_starts(starts)
+        .unwrap();
+    let e = explore::explore_model(&model, &Options::default()).unwrap();
+    assert_eq!(m.grid.starts.len(), e.starts.len(), "{what}: starts");
     assert!(g.complete && e.complete, "{what}");
     assert_eq!(g.verdict, e.verdict, "{what}: verdict");
     assert_eq!(
@@ -532,6 +541,101 @@ fn weaker_brakes_and_a_moving_start_are_declared_and_used() {
     // Without them, neither constant is written: the seed's file is unchanged.
     let plain = declaration(&export(&seed(), "5"));
     assert!(!plain.contains("BRKMIN") && !plain.contains("V0"));
+}
+
+#[test]
+fn ranges_of_initial_gaps_agree_with_the_explorer() {
+    // Every start of the range one period's travel apart and less: the alignment with the
+    // control period differs between starts.
+    let range = sweep(
+        |p| p.environment.initial_gap = Position::Range(1.0, 1.4),
+        "initial_gap [1.0, 1.4]",
+    );
+    assert_eq!(
+        range.len(),
+        2,
+        "both safe and colliding problems: {range:?}"
+    );
+    // Other start counts, with the other settings.
+    for (starts, lo, hi) in [(2, 0.9, 1.3), (3, 1.0, 1.1), (7, 0.8, 1.6)] {
+        let mut p = small(DangerRule::Kinematic, 1, 0.1, true, 0.6, 1.2);
+        p.environment.initial_gap = Position::Range(lo, hi);
+        p.robot.braking_min = Some(0.3);
+        p.robot.initial_speed = Some(0.1);
+        let what = format!("--starts {starts} in [{lo}, {hi}]");
+        agree_from(&p, "3", starts, &what);
+    }
+}
+
+#[test]
+fn a_range_is_declared_as_the_explorers_starts() {
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 0.6, 1.2);
+    p.environment.initial_gap = Position::Range(1.0, 1.3);
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    let m = uppaal::export_with_starts(&p, &set, 4).unwrap();
+    let d = Exact::from(m.grid.scale.clone());
+    let model = explore::FiniteModel::new(&p, set).with_starts(4).unwrap();
+    let on_grid: Vec<Exact> = m
+        .grid
+        .starts
+        .iter()
+        .map(|&g| Exact::from(g) / d.clone())
+        .collect();
+    assert_eq!(on_grid, model.starts());
+    let c = constants(&m);
+    assert_eq!(c["NSTART"], 4);
+    assert_eq!(c["G0MAX"], *m.grid.starts.last().unwrap());
+    assert!(!c.contains_key("G0"));
+    let text = declaration(&m);
+    assert!(text.contains("const int GSTART[NSTART] = {"), "{text}");
+    assert!(text.contains("void initialise(int g0) {"), "{text}");
+    assert!(text.contains("int[GMIN,G0MAX] gap"), "{text}");
+    check_structure(&m.xml);
+    assert!(
+        m.xml.contains("s : int[0, NSTART - 1]"),
+        "the start is a select"
+    );
+    assert!(m.xml.contains("initialise(GSTART[s])"));
+    assert!(m.xml.contains("--starts 4"));
+    // Bad start counts are refused as the explorer refuses them.
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    let err = uppaal::export_with_starts(&p, &set, 1).unwrap_err();
+    assert!(matches!(err, UppaalError::Options(_)), "{err}");
+}
+
+#[test]
+fn cli_exports_and_explores_a_range_as_the_explorers_starts() {
+    let dir = tmp();
+    let problem = dir.path().join("range.toml");
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 1.0, 1.2);
+    p.environment.initial_gap = Position::Range(1.0, 1.3);
+    p.robot.braking_min = Some(0.4);
+    std::fs::write(&problem, p.to_toml_string()).unwrap();
+    safereach(dir.path())
+        .arg("export-uppaal")
+        .arg(&problem)
+        .args(["--speeds", "3", "--starts", "3", "--out", "range.xml"])
+        .assert()
+        .code(0);
+    let xml = std::fs::read_to_string(dir.path().join("range.xml")).unwrap();
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    assert_eq!(xml, uppaal::export_with_starts(&p, &set, 3).unwrap().xml);
+    let json = |grid: bool| -> serde_json::Value {
+        let mut cmd = safereach(dir.path());
+        cmd.arg("explore")
+            .arg(&problem)
+            .args(["--speeds", "3", "--starts", "3", "--json"]);
+        if grid {
+            cmd.arg("--grid");
+        }
+        let out = cmd.assert().get_output().clone();
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let (g, e) = (json(true), json(false));
+    assert_eq!(g["grid"], true);
+    assert_eq!(g["verdict"], "safe");
+    assert_eq!(g["verdict"], e["verdict"]);
+    assert_eq!(g["min_separation"], e["min_separation"]);
 }
 
 /// A network whose danger distance used the plant's b_min instead of the controller's b

@@ -12,7 +12,7 @@ use super::{INT_MAX, MAX_PROFILE, UppaalError};
 use crate::core::model::{DangerRule, Params, Problem};
 use crate::core::num::Exact;
 use crate::core::semantics::{RobotState, robot_motion};
-use crate::crosscheck::explore::SpeedSet;
+use crate::crosscheck::explore::{DEFAULT_STARTS, FiniteModel, SpeedSet};
 
 /// The problem's numbers on the integer grid.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -21,8 +21,12 @@ pub struct Grid {
     pub scale: UBig,
     /// Latency L in periods.
     pub latency: usize,
-    /// Initial gap, g0·D.
+    /// Initial gap, g0·D; for a range of initial gaps, the largest start (the bound of the
+    /// gap variables).
     pub g0: i64,
+    /// The initial gaps (·D) the network starts from, ascending: the problem's one, or the
+    /// explorer's starts in its range (`--starts`).
+    pub starts: Vec<i64>,
     /// v_max·dt·D.
     pub v_max: i64,
     /// a·dt²·D (speed gained per period while accelerating).
@@ -108,11 +112,16 @@ pub(super) fn single_drive_profile(p: &Params<Exact>) -> Result<Vec<Exact>, Uppa
 
 /// Every quantity the model's integer arithmetic produces (in metres): D is the least common
 /// multiple of their denominators.
-fn grid_quantities(p: &Params<Exact>, drive: &[Exact], speeds: &SpeedSet) -> Vec<Exact> {
+fn grid_quantities(
+    p: &Params<Exact>,
+    drive: &[Exact],
+    speeds: &SpeedSet,
+    starts: &[Exact],
+) -> Vec<Exact> {
     let two = Exact::from(2);
     let dt = p.dt.clone();
-    let mut need: Vec<Exact> = vec![
-        p.g0.clone(),
+    let mut need: Vec<Exact> = starts.to_vec();
+    need.extend([
         p.clearance.clone(),
         p.buffer.clone(),
         p.v_max.clone() * dt.clone(),
@@ -121,7 +130,7 @@ fn grid_quantities(p: &Params<Exact>, drive: &[Exact], speeds: &SpeedSet) -> Vec
         p.b.clone() * dt.clone() * dt.clone() / two.clone(),
         p.b_min.clone() * dt.clone() * dt.clone() / two.clone(),
         p.v0.clone() * dt.clone(),
-    ];
+    ]);
     need.extend(speeds.speeds().iter().map(|w| w.clone() * dt.clone()));
     // The period in which the robot reaches v_max: v_max·dt − (v_max − u)²/(2a) (none for a
     // robot that starts at top speed).
@@ -148,15 +157,21 @@ fn grid_quantities(p: &Params<Exact>, drive: &[Exact], speeds: &SpeedSet) -> Vec
 }
 
 impl Grid {
-    /// The exact grid of a (validated) problem with obstacle speeds `speeds`.
+    /// The exact grid of a (validated) problem with obstacle speeds `speeds` (and for a range
+    /// of initial gaps, the explorer's default starts).
     pub fn new(problem: &Problem, speeds: &SpeedSet) -> Result<Grid, UppaalError> {
+        Self::with_starts(problem, speeds, DEFAULT_STARTS)
+    }
+
+    /// As [`Grid::new`], with `n` starts in a range of initial gaps: the explorer's
+    /// (`explore --starts n`, [`FiniteModel::with_starts`]), so that both search the same
+    /// finite model.
+    pub fn with_starts(
+        problem: &Problem,
+        speeds: &SpeedSet,
+        n: usize,
+    ) -> Result<Grid, UppaalError> {
         let p: Params<Exact> = problem.params();
-        if p.gap_is_range() {
-            return Err(UppaalError::Grid(
-                "the UPPAAL export takes one initial gap; environment.initial_gap is a range"
-                    .into(),
-            ));
-        }
         if p.noisy() || p.d_det.is_some() {
             return Err(UppaalError::Grid(
                 "the UPPAAL export models exact observations of a visible obstacle; \
@@ -164,21 +179,35 @@ impl Grid {
                     .into(),
             ));
         }
+        let starts = FiniteModel::from_params(p.clone(), speeds.clone())
+            .with_starts(n)
+            .map_err(|e| UppaalError::Options(e.to_string()))?
+            .starts()
+            .to_vec();
         let drive = single_drive_profile(&p)?;
-        let need = grid_quantities(&p, &drive, speeds);
+        let need = grid_quantities(&p, &drive, speeds, &starts);
         let scale = need.iter().fold(UBig::ONE, |d, x| lcm(&d, x.denominator()));
-        let grid = Self::scaled(&p, speeds, scale)?;
+        let grid = Self::scaled(&p, speeds, &starts, scale)?;
         grid.check_products()?;
         Ok(grid)
     }
 
     /// The problem's numbers with `scale` grid units per metre.
-    fn scaled(p: &Params<Exact>, speeds: &SpeedSet, scale: UBig) -> Result<Grid, UppaalError> {
+    fn scaled(
+        p: &Params<Exact>,
+        speeds: &SpeedSet,
+        starts: &[Exact],
+        scale: UBig,
+    ) -> Result<Grid, UppaalError> {
         let dt = p.dt.clone();
         let bdt = p.b.clone() * dt.clone();
         let d = Exact::from(scale.clone());
         let on_grid = |x: Exact| x * d.clone();
-        let g0 = to_int(&on_grid(p.g0.clone()), "the initial gap")?;
+        let starts = starts
+            .iter()
+            .map(|g| to_int(&on_grid(g.clone()), "the initial gap"))
+            .collect::<Result<Vec<_>, _>>()?;
+        let g0 = *starts.last().expect("a problem has a start");
         let v_max = to_int(&on_grid(p.v_max.clone() * dt.clone()), "v_max·dt")?;
         let acc = to_int(&on_grid(p.a.clone() * dt.clone() * dt.clone()), "a·dt²")?;
         let brk = to_int(&on_grid(bdt.clone() * dt.clone()), "b·dt²")?;
@@ -203,6 +232,7 @@ impl Grid {
             scale,
             latency: p.L,
             g0,
+            starts,
             v_max,
             acc,
             brk,

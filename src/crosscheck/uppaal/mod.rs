@@ -18,7 +18,7 @@
 //!   braking, `BRKMIN`, written only when b_min < b).
 //!
 //! D is the least common multiple of the denominators of every quantity the model's integer
-//! arithmetic produces: the initial gap, clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2,
+//! arithmetic produces: the initial gap (every start of a range), clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2,
 //! b·dt²/2, b_min·dt²/2, each obstacle speed × dt, the distance of the step in which the robot
 //! reaches v_max (none when it starts at v_max), and for every speed the robot can brake from
 //! (v0, then one per period until v_max), the distance it and each obstacle speed cover in
@@ -49,6 +49,15 @@
 //! - `Obstacle`: Init → Idle ⇄ Move, the seed's obstacle automaton. Init stores the initial
 //!   gap; from Idle it selects its speed for the period from the set (`decide!`), and Move
 //!   lasts one time unit (`advance!` at x == 1).
+//!
+//!   *A range of initial gaps* is exported as the explorer's finite set of starts
+//!   ([`export_with_starts`], `--starts N`, default 5: N evenly spaced gaps, both ends
+//!   included, taken from [`crate::crosscheck::explore::FiniteModel::with_starts`] itself):
+//!   `GSTART[NSTART]` on the grid (each start's denominator goes into D), and Init's edge
+//!   selects one (`select s : int[0, NSTART - 1]`, `initialise(GSTART[s])`) — the
+//!   environment's first choice, as the explorer's init states are. The gap variables are
+//!   bounded by the largest start, `G0MAX`. Like the explorer, the network covers exactly
+//!   these starts, not the points between.
 //! - Variables: the gap (not absolute positions — only the gap matters, as in the explorer,
 //!   and absolute positions would only multiply UPPAAL's states), the robot's speed, the
 //!   obstacle's speed in the current period (cleared at its end), the last L+1 gaps and
@@ -168,8 +177,8 @@ pub use syntax::{
 use crate::core::model::Problem;
 use crate::core::num::Exact;
 use crate::core::scene::Scene;
-use crate::crosscheck::explore::SpeedSet;
 use crate::crosscheck::explore::scene::SceneSpeeds;
+use crate::crosscheck::explore::{DEFAULT_STARTS, SpeedSet};
 
 /// Most drive-profile speeds (control periods to reach v_max, plus one) the export enumerates.
 pub const MAX_PROFILE: usize = 100_000;
@@ -206,9 +215,20 @@ pub struct UppaalModel {
     pub query: String,
 }
 
-/// Exports a (validated) problem with obstacle speeds from `speeds`.
+/// Exports a (validated) problem with obstacle speeds from `speeds` (and for a range of
+/// initial gaps, the explorer's default starts).
 pub fn export(problem: &Problem, speeds: &SpeedSet) -> Result<UppaalModel, UppaalError> {
-    let grid = Grid::new(problem, speeds)?;
+    export_with_starts(problem, speeds, DEFAULT_STARTS)
+}
+
+/// As [`export`], with `starts` evenly spaced starts in a range of initial gaps, both ends
+/// included: the set `explore --starts` explores (a single initial gap is its only start).
+pub fn export_with_starts(
+    problem: &Problem,
+    speeds: &SpeedSet,
+    starts: usize,
+) -> Result<UppaalModel, UppaalError> {
+    let grid = Grid::with_starts(problem, speeds, starts)?;
     let network = network::network(problem, &grid, speeds);
     let xml = xml_text(&network);
     let query = query_text(&network);

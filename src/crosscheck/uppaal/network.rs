@@ -23,10 +23,7 @@ pub(super) fn network(problem: &Problem, grid: &Grid, speeds: &SpeedSet) -> Netw
     Network {
         header: header(problem, grid, speeds),
         declarations,
-        templates: vec![
-            robot_template(grid),
-            obstacle_template(grid.speeds.len() as i64),
-        ],
+        templates: vec![robot_template(grid), obstacle_template(grid)],
         system_comment: "One robot, one obstacle on its lane.".into(),
         violation: violation(),
         query_comment: query_comment(),
@@ -43,6 +40,20 @@ fn speed_list(speeds: &SpeedSet) -> String {
         .join(",")
 }
 
+/// The explorer's `--starts` for a range of initial gaps (nothing for a single start).
+fn starts_option(g: &Grid) -> String {
+    if g.starts.len() > 1 {
+        format!(" --starts {}", g.starts.len())
+    } else {
+        String::new()
+    }
+}
+
+/// The name of the gap variables' upper bound: the initial gap, or the largest start.
+fn gap_top(g: &Grid) -> &'static str {
+    if g.starts.len() > 1 { "G0MAX" } else { "G0" }
+}
+
 /// The file's header comment: the scaling, and where the reference answer comes from.
 fn header(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> String {
     let dt = problem.robot.control_period;
@@ -55,11 +66,12 @@ fn header(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> String {
          - speed: units per period: 1 = 1/({d} * {dt}) m/s;\n\
          - the reaction radius enters as floor(rho * {d}) = {rho}, the same condition for integer gaps.\n\
          Reference answer: the explorer on the same finite model, safereach explore PROBLEM\n\
-         with the speed list {list} (UPPAAL is not needed for it).",
+         with the speed list {list}{starts} (UPPAAL is not needed for it).",
         name = problem.name,
         d = g.scale,
         rho = g.rho,
         list = speed_list(speeds),
+        starts = starts_option(g),
     )
 }
 
@@ -70,14 +82,34 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
         Decl::Comment(format!(
             "Problem \"{}\" on the integer grid: 1 distance unit = 1/{} m, 1 time unit = {} s,\n\
              speeds in distance units per period. Exact: see the file's header comment.\n\
-             Reference answer: safereach explore PROBLEM --speeds {}",
+             Reference answer: safereach explore PROBLEM --speeds {}{}",
             problem.name,
             g.scale,
             dt,
-            speed_list(speeds)
+            speed_list(speeds),
+            starts_option(g)
         )),
         constant("L", g.latency as i64, "observation latency (periods)"),
-        constant("G0", g.g0, "initial gap"),
+    ];
+    if g.starts.len() > 1 {
+        out.extend([
+            constant(
+                "NSTART",
+                g.starts.len() as i64,
+                "number of initial gaps (the explorer's starts in the range)",
+            ),
+            Decl::ConstArray {
+                name: "GSTART",
+                len: "NSTART",
+                values: g.starts.clone(),
+                note: "initial gaps, ascending: the environment picks one".into(),
+            },
+            constant("G0MAX", g.g0, "largest initial gap"),
+        ]);
+    } else {
+        out.push(constant("G0", g.g0, "initial gap"));
+    }
+    out.extend([
         constant("VMAX", g.v_max, "top speed v_max * dt"),
         constant(
             "ACC",
@@ -89,7 +121,7 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
             g.brk,
             "speed lost per period while braking, b * dt^2",
         ),
-    ];
+    ]);
     if g.brk_min != g.brk {
         out.push(constant(
             "BRKMIN",
@@ -143,10 +175,11 @@ fn plant_brake(g: &Grid) -> &'static str {
 /// The variables: the gap, the speeds, the observation history, the rest.
 fn variables(g: &Grid) -> Vec<Decl> {
     let l = g.latency as i64;
+    let top = gap_top(g);
     vec![
         Decl::Var {
             name: "gap",
-            range: Some(("GMIN", "G0", g.gap_min, g.g0)),
+            range: Some(("GMIN", top, g.gap_min, g.g0)),
             len: None,
             init: 0,
             note: "obstacle position - robot position (set by Obstacle.Init)".into(),
@@ -167,7 +200,7 @@ fn variables(g: &Grid) -> Vec<Decl> {
         },
         Decl::Var {
             name: "gapAt",
-            range: Some(("GMIN", "G0", g.gap_min, g.g0)),
+            range: Some(("GMIN", top, g.gap_min, g.g0)),
             len: Some(("L + 1".into(), g.latency + 1)),
             init: 0,
             note: "gapAt[j]: gap at the start of the period j periods ago".into(),
@@ -197,7 +230,7 @@ fn variables(g: &Grid) -> Vec<Decl> {
         },
         Decl::Var {
             name: "restGap",
-            range: Some(("GMIN", "G0", g.gap_min, g.g0)),
+            range: Some(("GMIN", top, g.gap_min, g.g0)),
             len: None,
             init: 0,
             note: "gap at the instant the robot came to rest".into(),
@@ -324,22 +357,33 @@ fn collision_danger(rule: DangerRule) -> Decl {
 /// The period's bookkeeping: the initial gap, and the end of a period (the gap, the speed,
 /// the shifted observation history).
 fn period_functions(g: &Grid) -> Vec<Decl> {
-    let mut init = vec![Stmt::Set("gap", n("G0"))];
-    let mut init_doc = "Obstacle.Init: store the initial gap.";
+    // A range's start is the environment's choice on Obstacle.Init, passed in as g0.
+    let (start, params): (_, &[&'static str]) = if g.starts.len() > 1 {
+        (n("g0"), &["g0"])
+    } else {
+        (n("G0"), &[])
+    };
+    let mut init = vec![Stmt::Set("gap", start.clone())];
+    let what = if g.starts.len() > 1 {
+        "the initial gap g0 it picked"
+    } else {
+        "the initial gap"
+    };
+    let mut init_doc = format!("Obstacle.Init: store {what}.");
     if g.v0 != 0 {
         // Here rather than on the robot's first edge: the two committed first edges may
         // fire in either order, and a moving robot must not meet the gap's placeholder 0.
         init.push(Stmt::Set("v", n("V0")));
-        init_doc = "Obstacle.Init: store the initial gap and the robot's initial speed.";
+        init_doc = format!("Obstacle.Init: store {what} and the robot's initial speed.");
     }
     init.push(Stmt::For {
         var: "j",
         from: int(0),
         up_to: Some(n("L")),
-        body: vec![Stmt::SetElem("gapAt", n("j"), n("G0"))],
+        body: vec![Stmt::SetElem("gapAt", n("j"), start)],
     });
     vec![
-        func(init_doc, Ty::Void, "initialise", &[], &["j"], init),
+        func(&init_doc, Ty::Void, "initialise", params, &["j"], init),
         func(
             "End of a period: the robot moved dx and ends at speed vEnd, the obstacle moved w;\n\
              shift the observation history (w is cleared: it is chosen anew each period).",
@@ -616,7 +660,21 @@ fn robot_template(g: &Grid) -> Template {
     }
 }
 
-fn obstacle_template(nw: i64) -> Template {
+fn obstacle_template(g: &Grid) -> Template {
+    let nw = g.speeds.len() as i64;
+    // A range: the environment picks the start, one of the explorer's.
+    let init = if g.starts.len() > 1 {
+        Edge {
+            select: Some(("s", "NSTART - 1", g.starts.len() as i64 - 1)),
+            update: vec![Stmt::Call("initialise", vec![elem("GSTART", n("s"))])],
+            ..edge(INIT, IDLE)
+        }
+    } else {
+        Edge {
+            update: vec![Stmt::Call("initialise", vec![])],
+            ..edge(INIT, IDLE)
+        }
+    };
     const INIT: usize = 0;
     const IDLE: usize = 1;
     const MOVE: usize = 2;
@@ -646,10 +704,7 @@ fn obstacle_template(nw: i64) -> Template {
         ],
         init: INIT,
         edges: vec![
-            Edge {
-                update: vec![Stmt::Call("initialise", vec![])],
-                ..edge(INIT, IDLE)
-            },
+            init,
             Edge {
                 select: Some(("i", "NW - 1", nw - 1)),
                 guard: Some(not(call("collided"))),
