@@ -16,7 +16,7 @@
 use std::collections::{BTreeSet, HashMap};
 
 use roxmltree::{Document, Node};
-use safereach::core::model::{Controller, DangerRule, Position, Problem};
+use safereach::core::model::{Controller, DangerRule, Position, Problem, Sensing};
 use safereach::core::num::Exact;
 use safereach::crosscheck::explore::{self, ExploreVerdict, Options, SpeedSet};
 use safereach::crosscheck::uppaal::{self, Decl, UppaalError, UppaalModel};
@@ -636,6 +636,128 @@ fn cli_exports_and_explores_a_range_as_the_explorers_starts() {
     assert_eq!(g["verdict"], "safe");
     assert_eq!(g["verdict"], e["verdict"]);
     assert_eq!(g["min_separation"], e["min_separation"]);
+}
+
+fn sensing(p: &mut Problem, sg: f64, sw: f64) {
+    p.sensing = Some(Sensing {
+        gap_noise: Some(sg),
+        speed_noise: Some(sw),
+        first_detection_gap: None,
+    });
+}
+
+#[test]
+fn sensing_noise_agrees_with_the_explorer() {
+    for (sg, sw) in [(0.05, 0.0), (0.0, 0.15), (0.2, 0.05), (0.03, 0.12)] {
+        let label = format!("gap_noise {sg}, speed_noise {sw}");
+        let v = sweep(|p| sensing(p, sg, sw), &label);
+        assert_eq!(
+            v.len(),
+            2,
+            "{label}: both safe and colliding problems: {v:?}"
+        );
+    }
+    // With the other settings, and with no buffer (d_coll from 0 at rest).
+    let v = sweep(
+        |p| {
+            sensing(p, 0.05, 0.1);
+            p.robot.braking_min = Some(0.3);
+            p.robot.initial_speed = Some(0.2);
+            p.controller.buffer = 0.0;
+        },
+        "noise, b_min, v0, no buffer",
+    );
+    assert!(!v.is_empty());
+}
+
+#[test]
+fn sensing_noise_is_declared_and_selected_on_the_decide_edge() {
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 0.6, 1.2);
+    sensing(&mut p, 0.05, 0.15);
+    let m = export(&p, "3");
+    let c = constants(&m);
+    let d = Exact::from(m.grid.scale.clone());
+    let x = p.params::<Exact>();
+    assert_eq!(Exact::from(c["SG"]) / d.clone(), x.sigma_g);
+    assert_eq!(Exact::from(c["SW"]) / d, x.sigma_w.clone() * x.dt.clone());
+    let text = declaration(&m);
+    for f in [
+        "int observedGap(int e) {",
+        "bool observedFast(int e) {",
+        "bool collisionDanger(int e) {",
+        "bool wrongAssumption(int e) {",
+        "fastAt[0] = w + SW > VA;",
+        "slowAt[0] = w - SW <= VA;",
+    ] {
+        assert!(text.contains(f), "missing {f}:\n{text}");
+    }
+    check_structure(&m.xml);
+    assert!(m.xml.contains("e : int[0, 5]"));
+    assert!(
+        m.xml
+            .contains("!(collisionDanger(e) || wrongAssumption(e))")
+    );
+}
+
+/// With gap noise every positive guard threshold is at least one grid unit (the grid is
+/// refined if need be), so that an integer observed gap fires whenever a real one can.
+#[test]
+fn gap_noise_refines_the_grid_to_whole_unit_thresholds() {
+    let mut p = small(DangerRule::Area, 0, 0.1, true, 0.0001, 1.2);
+    let plain = export(&p, "3");
+    assert_eq!(
+        plain.grid.rho, 0,
+        "without noise rho need not be a whole unit"
+    );
+    sensing(&mut p, 0.05, 0.0);
+    let m = export(&p, "3");
+    assert!(m.grid.rho >= 1, "rho is {} units", m.grid.rho);
+    assert_eq!(
+        m.grid.scale.clone() % plain.grid.scale.clone(),
+        0u8.into(),
+        "a refinement of the plain grid"
+    );
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..=1 {
+            let mut q = small(rule, latency, 0.1, true, 0.0001, 1.2);
+            sensing(&mut q, 0.05, 0.0);
+            agree(&q, "3", &format!("tiny rho, {rule} L={latency}"));
+        }
+    }
+}
+
+/// With noise, errors that realise only part of the guard outcomes (the gap seen only at
+/// the ends of its interval, the speed never off) answer differently from the explorer.
+#[test]
+fn too_few_observation_errors_are_caught() {
+    let mut caught = 0;
+    for rule in [DangerRule::Paper, DangerRule::Area] {
+        for latency in 0..=1 {
+            for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3)] {
+                let mut p = small(rule, latency, w, wab, rho, 1.2);
+                sensing(&mut p, 0.2, 0.15);
+                let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+                let mut m = uppaal::export(&p, &set).unwrap();
+                for e in &mut m.network.templates[0].edges {
+                    if let Some(sel) = &mut e.select {
+                        sel.2 = 1;
+                    }
+                }
+                let g = uppaal::explore_grid(&m, &Options::default()).unwrap();
+                let e = explore::explore(&p, set, &Options::default()).unwrap();
+                if (g.verdict, g.collision_period, g.min_separation)
+                    != (
+                        e.verdict,
+                        e.counterexample.as_ref().map(|c| c.periods()),
+                        e.min_separation.clone(),
+                    )
+                {
+                    caught += 1;
+                }
+            }
+        }
+    }
+    assert!(caught > 0, "too few errors went unnoticed");
 }
 
 /// A network whose danger distance used the plant's b_min instead of the controller's b

@@ -11,7 +11,7 @@ use dashu_int::{IBig, UBig};
 use super::{INT_MAX, MAX_PROFILE, UppaalError};
 use crate::core::model::{DangerRule, Params, Problem};
 use crate::core::num::Exact;
-use crate::core::semantics::{RobotState, robot_motion};
+use crate::core::semantics::{RobotState, danger_distance, robot_motion};
 use crate::crosscheck::explore::{DEFAULT_STARTS, FiniteModel, SpeedSet};
 
 /// The problem's numbers on the integer grid.
@@ -48,6 +48,10 @@ pub struct Grid {
     pub clearance: i64,
     /// Obstacle speeds × dt·D, ascending.
     pub speeds: Vec<i64>,
+    /// σ_g·D: the gap noise (0 without).
+    pub sigma_g: i64,
+    /// σ_w·dt·D: the speed noise (0 without).
+    pub sigma_w: i64,
     /// Lowest value a gap variable can take.
     pub gap_min: i64,
     /// The danger rule.
@@ -130,6 +134,8 @@ fn grid_quantities(
         p.b.clone() * dt.clone() * dt.clone() / two.clone(),
         p.b_min.clone() * dt.clone() * dt.clone() / two.clone(),
         p.v0.clone() * dt.clone(),
+        p.sigma_g.clone(),
+        p.sigma_w.clone() * dt.clone(),
     ]);
     need.extend(speeds.speeds().iter().map(|w| w.clone() * dt.clone()));
     // The period in which the robot reaches v_max: v_max·dt − (v_max − u)²/(2a) (none for a
@@ -156,6 +162,31 @@ fn grid_quantities(
     need
 }
 
+/// With gap noise, the factor by which the grid is refined so that every positive guard
+/// threshold θ(v) = min(ρ, d_coll(v)), v on the drive profile, is at least one grid unit:
+/// then some *integer* observed gap in [g − σ_g, g + σ_g] fires the guard whenever some real
+/// one does (module docs of `uppaal`, "Sensing noise"). 1 without gap noise.
+fn noise_refinement(p: &Params<Exact>, drive: &[Exact], scale: &UBig) -> UBig {
+    if p.sigma_g == Exact::ZERO {
+        return UBig::ONE;
+    }
+    let d = Exact::from(scale.clone());
+    let mut least = p.rho.clone();
+    for v in drive {
+        if let Some(t) = danger_distance(p, v)
+            && t > Exact::ZERO
+            && t < least
+        {
+            least = t;
+        }
+    }
+    let units = least * d;
+    if units >= Exact::ONE {
+        return UBig::ONE;
+    }
+    UBig::try_from((Exact::ONE / units).ceil()).expect("a positive factor")
+}
+
 impl Grid {
     /// The exact grid of a (validated) problem with obstacle speeds `speeds` (and for a range
     /// of initial gaps, the explorer's default starts).
@@ -172,10 +203,10 @@ impl Grid {
         n: usize,
     ) -> Result<Grid, UppaalError> {
         let p: Params<Exact> = problem.params();
-        if p.noisy() || p.d_det.is_some() {
+        if p.d_det.is_some() {
             return Err(UppaalError::Grid(
-                "the UPPAAL export models exact observations of a visible obstacle; \
-                 the [sensing] settings are not exported yet"
+                "the UPPAAL export models an obstacle visible from the start; \
+                 sensing.first_detection_gap (occlusion) is not exported yet"
                     .into(),
             ));
         }
@@ -187,6 +218,8 @@ impl Grid {
         let drive = single_drive_profile(&p)?;
         let need = grid_quantities(&p, &drive, speeds, &starts);
         let scale = need.iter().fold(UBig::ONE, |d, x| lcm(&d, x.denominator()));
+        let refine = noise_refinement(&p, &drive, &scale);
+        let scale = scale * refine;
         let grid = Self::scaled(&p, speeds, &starts, scale)?;
         grid.check_products()?;
         Ok(grid)
@@ -220,6 +253,8 @@ impl Grid {
         let rho_exact = Exact::from(on_grid(p.rho.clone()).floor());
         let rho = to_int(&rho_exact, "the reaction radius")?;
         let buffer = to_int(&on_grid(p.buffer.clone()), "the buffer")?;
+        let sigma_g = to_int(&on_grid(p.sigma_g.clone()), "the gap noise")?;
+        let sigma_w = to_int(&on_grid(p.sigma_w.clone() * dt.clone()), "σ_w·dt")?;
         let clearance = to_int(&on_grid(p.clearance.clone()), "the clearance")?;
         let speeds_int = speeds
             .speeds()
@@ -243,6 +278,8 @@ impl Grid {
             buffer,
             clearance,
             speeds: speeds_int,
+            sigma_g,
+            sigma_w,
             gap_min,
             rule: p.rule,
             wrong_assumption_brake: p.wrong_assumption_brake,
@@ -261,7 +298,9 @@ impl Grid {
         } else {
             1
         };
-        let span = (self.g0 + self.buffer).max(self.buffer - self.gap_min);
+        // Observed gaps are the true ones off by at most σ_g.
+        let span =
+            (self.g0 + self.sigma_g + self.buffer).max(self.buffer - self.gap_min + self.sigma_g);
         let checks: [(&str, i128); 6] = [
             (
                 "the danger guard's left side (observed gap - BUFFER)·BRK",
@@ -282,8 +321,12 @@ impl Grid {
                 i128::from(self.acc) * i128::from(self.acc),
             ),
             (
-                "a gap plus a period's travel",
-                i128::from(self.g0) + i128::from(self.v_max) + i128::from(self.w_max()),
+                "a gap plus a period's travel and the noise",
+                i128::from(self.g0)
+                    + i128::from(self.v_max)
+                    + i128::from(self.w_max())
+                    + i128::from(self.sigma_g)
+                    + i128::from(self.sigma_w),
             ),
             ("2·ACC, 2·BRK", 2 * i128::from(self.acc.max(self.brk))),
         ];

@@ -18,7 +18,7 @@
 //!   braking, `BRKMIN`, written only when b_min < b).
 //!
 //! D is the least common multiple of the denominators of every quantity the model's integer
-//! arithmetic produces: the initial gap (every start of a range), clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2,
+//! arithmetic produces: the initial gap (every start of a range), σ_g, σ_w·dt, clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2,
 //! b·dt²/2, b_min·dt²/2, each obstacle speed × dt, the distance of the step in which the robot
 //! reaches v_max (none when it starts at v_max), and for every speed the robot can brake from
 //! (v0, then one per period until v_max), the distance it and each obstacle speed cover in
@@ -69,6 +69,46 @@
 //!   by its gap at that instant (< clearance), exactly as [`crate::core::semantics::World::step`].
 //!   The network stops (the obstacle blocks) once the query is violated, which keeps every
 //!   variable in its declared range.
+//!
+//! # Sensing noise: three gaps and two speed readings realise every error's outcome
+//!
+//! With `[sensing] gap_noise` σ_g or `speed_noise` σ_w (docs/semantics.md §12) each
+//! observation is off by an error the environment picks within ±σ. The grid takes
+//! `SG` = σ_g·D and `SW` = σ_w·dt·D (their denominators go into D). The history keeps, per
+//! period, whether its speed can be measured above V_a (`fastAt`: w + SW > VA) and at or
+//! below it (`slowAt`: w − SW ≤ VA; the speed before the first period is 0 exactly, so
+//! `slowAt` starts true and `fastAt` false). The robot's decide edges select the error
+//! `e : int[0, 5]`, and every guard reads the observation `e` picks: `observedGap(e)` is,
+//! for e mod 3 = 0, 1, 2, the lowest gap the noise allows, l = g − SG, the highest,
+//! h = g + SG, or the lowest positive one, max(l, min(1, h)); `observedFast(e)` is "fast"
+//! for e ≥ 3 if some error shows the speed above V_a, and "fast" whenever none shows it at or
+//! below (one of the two always can). The selected index lives only on the edge: nothing
+//! of it is stored.
+//!
+//! *Claim.* For each robot speed v and true observation (g, w), the guard outcomes these six
+//! errors give are exactly the outcomes some real error in [−σ_g, σ_g] × [−σ_w, σ_w] gives —
+//! the explorer's `(fire, quiet)` (`explore::observe::choices`) — so the network's runs are
+//! the explorer's runs, and its reachable (gap, speed, history) states the same.
+//!
+//! *Proof.* The guard fires on an observed gap o and speed s iff 0 < o ≤ T, with T = ρ if s
+//! is seen above V_a (and the wrong-assumption guard is on) and T = θ(v) = min(ρ, d_coll(v))
+//! otherwise; whether s is seen above V_a depends only on the speed error, and both bits
+//! the noise allows are among the selected ones. *Fire:* some real o ∈ [l, h] lies in
+//! (0, T] iff h > 0, l ≤ T and T > 0. On the grid g, SG — hence l, h — are integers, and
+//! the network's comparisons are exact for integer o (o ≤ ⌊ρ·D⌋ ⟺ o ≤ ρ·D, and
+//! d_coll is multiplied out). The least positive integer in [l, h], max(l, min(1, h)) when
+//! h ≥ 1, fires iff some integer of [l, h] does (the firing set is an interval starting
+//! above 0), and some integer of [l, h] lies in (0, T] iff the real condition holds
+//! provided every positive threshold T is at least one unit: if l ≥ 1 both say l ≤ T; if
+//! l ≤ 0 both say h ≥ 1 and T ≥ 1 (⟺ T > 0). So the grid is refined (D multiplied by
+//! ⌈1/(T·D)⌉) until ρ and every positive d_coll(v) over the drive profile are at least one
+//! unit — d_coll is nondecreasing in v, and the robot only ever decides at profile speeds.
+//! *Quiet:* o ≤ 0, or o > T' (T' = θ(v) if s can be seen at or below V_a, else ρ); some real
+//! o ∈ [l, h] does this iff l ≤ 0 or h > T', and for the integer h, h > T' ⟺ h > ⌊T'⌋, so
+//! l and h (with the slow bit if allowed) realise it. ∎
+//!
+//! Without noise, nothing of this is written (no `SG`, `SW`, `slowAt`, select or
+//! parameter), so those exports are unchanged.
 //!
 //! # Scenes: the seed's whole network
 //!

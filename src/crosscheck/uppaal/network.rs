@@ -17,7 +17,7 @@ use crate::crosscheck::explore::{SpeedSet, show_exact};
 pub(super) fn network(problem: &Problem, grid: &Grid, speeds: &SpeedSet) -> Network {
     let mut declarations = constants(problem, grid, speeds);
     declarations.extend(variables(grid));
-    declarations.extend(guard_functions(grid.rule));
+    declarations.extend(guard_functions(grid));
     declarations.extend(period_functions(grid));
     declarations.extend(motion_functions(plant_brake(grid)));
     Network {
@@ -133,6 +133,20 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
     if g.v0 != 0 {
         out.push(constant("V0", g.v0, "the robot's speed at t = 0, v0 * dt"));
     }
+    if noisy(g) {
+        out.extend([
+            constant(
+                "SG",
+                g.sigma_g,
+                "gap noise: an observed gap is off by at most SG",
+            ),
+            constant(
+                "SW",
+                g.sigma_w,
+                "speed noise: a measured speed is off by at most SW (sigma_w * dt)",
+            ),
+        ]);
+    }
     out.extend([
         constant("VA", g.v_a, "assumed obstacle speed bound V_a * dt"),
         constant("RHO", g.rho, "reaction radius floor(rho)"),
@@ -176,7 +190,7 @@ fn plant_brake(g: &Grid) -> &'static str {
 fn variables(g: &Grid) -> Vec<Decl> {
     let l = g.latency as i64;
     let top = gap_top(g);
-    vec![
+    let mut out = vec![
         Decl::Var {
             name: "gap",
             range: Some(("GMIN", top, g.gap_min, g.g0)),
@@ -210,10 +224,28 @@ fn variables(g: &Grid) -> Vec<Decl> {
             range: None,
             len: Some(("L + 1".into(), g.latency + 1)),
             init: 0,
-            note:
+            note: if noisy(g) {
+                "fastAt[j]: the speed of the period that ended j periods ago can be measured\n\
+                 above V_a"
+                    .into()
+            } else {
                 "fastAt[j]: the obstacle was faster than V_a in the period that ended j periods ago"
-                    .into(),
+                    .into()
+            },
         },
+    ];
+    if noisy(g) {
+        out.push(Decl::Var {
+            name: "slowAt",
+            range: None,
+            len: Some(("L + 1".into(), g.latency + 1)),
+            init: 1,
+            note: "slowAt[j]: ... can be measured at or below V_a (the speed before the first\n\
+                   period is 0 exactly: slow)"
+                .into(),
+        });
+    }
+    out.extend([
         Decl::Var {
             name: "k",
             range: Some(("0", "L", 0, l)),
@@ -235,60 +267,137 @@ fn variables(g: &Grid) -> Vec<Decl> {
             init: 0,
             note: "gap at the instant the robot came to rest".into(),
         },
+    ]);
+    out
+}
+
+/// Sensing noise: the guards take the observation error's index `e` (module docs of
+/// `uppaal`, "Sensing noise").
+fn noisy(g: &Grid) -> bool {
+    g.sigma_g != 0 || g.sigma_w != 0
+}
+
+/// The argument list of a guard function: `(e)` with noise, else `()`.
+fn err_args(g: &Grid) -> Vec<Expr> {
+    if noisy(g) { vec![n("e")] } else { vec![] }
+}
+
+/// The parameter list of a guard function: `(int e)` with noise, else `()`.
+fn err_params(g: &Grid) -> &'static [&'static str] {
+    if noisy(g) { &["e"] } else { &[] }
+}
+
+/// `f()` or `f(e)`.
+fn guard_call(g: &Grid, f: &'static str) -> Expr {
+    Expr::Call(f, err_args(g))
+}
+
+/// The observed gap and speed: exact, or with noise the error the index `e` picks.
+fn observation_functions(g: &Grid) -> Vec<Decl> {
+    if !noisy(g) {
+        return vec![
+            func(
+                "",
+                Ty::Int,
+                "observedGap",
+                &[],
+                &[],
+                vec![Stmt::Return(elem("gapAt", n("L")))],
+            ),
+            func(
+                "The observed speed matters only as faster than V_a or not.",
+                Ty::Bool,
+                "observedFast",
+                &[],
+                &[],
+                vec![Stmt::Return(elem("fastAt", n("L")))],
+            ),
+        ];
+    }
+    let truth = || elem("gapAt", n("L"));
+    let low = || sub(truth(), n("SG"));
+    let high = || add(truth(), n("SG"));
+    let is = |v: i64| bin(Op::Eq, n("e"), int(v));
+    vec![
+        func(
+            "Sensing noise: the environment picks the observation's error within +-SG (gap)\n\
+             and +-SW (speed); the robot's decide edge selects it as e in [0, 5]. e mod 3\n\
+             picks the gap: 0 the lowest it can be seen at, 1 the highest, 2 the lowest\n\
+             positive one (the highest if none is positive). These three realise every\n\
+             outcome of the guard that some error in the whole interval allows (the guard\n\
+             fires on a gap in (0, threshold], and is quiet at or below 0 or above it).",
+            Ty::Int,
+            "observedGap",
+            &["e"],
+            &[],
+            vec![
+                Stmt::If(or(is(0), is(3)), vec![Stmt::Return(low())], vec![]),
+                Stmt::If(or(is(1), is(4)), vec![Stmt::Return(high())], vec![]),
+                Stmt::If(
+                    bin(Op::Ge, low(), int(1)),
+                    vec![Stmt::Return(low())],
+                    vec![],
+                ),
+                Stmt::If(
+                    bin(Op::Ge, high(), int(1)),
+                    vec![Stmt::Return(int(1))],
+                    vec![],
+                ),
+                Stmt::Return(high()),
+            ],
+        ),
+        func(
+            "The measured speed, against V_a: e >= 3 shows it faster than V_a if some error\n\
+             can, else (or if no error can show it at or below V_a) as the errors allow.",
+            Ty::Bool,
+            "observedFast",
+            &["e"],
+            &[],
+            vec![Stmt::Return(or(
+                and(bin(Op::Ge, n("e"), int(3)), elem("fastAt", n("L"))),
+                not(elem("slowAt", n("L"))),
+            ))],
+        ),
     ]
 }
 
 /// The guard functions: what the robot observes, the danger and wrong-assumption guards,
 /// and the violation.
-fn guard_functions(rule: DangerRule) -> Vec<Decl> {
-    let observed_gap = call("observedGap");
-    vec![
-        func(
-            "The robot sees the gap L periods ago (and the obstacle speed of the period\n\
-             before that; 0 before the first period) once L periods have passed.",
-            Ty::Bool,
-            "observing",
-            &[],
-            &[],
-            vec![Stmt::Return(bin(Op::Ge, n("k"), n("L")))],
-        ),
-        func(
-            "",
-            Ty::Int,
-            "observedGap",
-            &[],
-            &[],
-            vec![Stmt::Return(elem("gapAt", n("L")))],
-        ),
-        func(
-            "The observed speed matters only as faster than V_a or not.",
-            Ty::Bool,
-            "observedFast",
-            &[],
-            &[],
-            vec![Stmt::Return(elem("fastAt", n("L")))],
-        ),
+fn guard_functions(g: &Grid) -> Vec<Decl> {
+    let observed_gap = guard_call(g, "observedGap");
+    let params = err_params(g);
+    let mut out = vec![func(
+        "The robot sees the gap L periods ago (and the obstacle speed of the period\n\
+         before that; 0 before the first period) once L periods have passed.",
+        Ty::Bool,
+        "observing",
+        &[],
+        &[],
+        vec![Stmt::Return(bin(Op::Ge, n("k"), n("L")))],
+    )];
+    out.extend(observation_functions(g));
+    out.extend([
         func(
             "In the reaction area: 0 < observed gap <= rho.",
             Ty::Bool,
             "inArea",
-            &[],
+            params,
             &[],
             vec![Stmt::Return(and(
                 and(call("observing"), bin(Op::Gt, observed_gap.clone(), int(0))),
                 bin(Op::Le, observed_gap, n("RHO")),
             ))],
         ),
-        collision_danger(rule),
+        collision_danger(g),
         func(
             "Wrong assumption: an obstacle in the area seen faster than V_a.",
             Ty::Bool,
             "wrongAssumption",
-            &[],
+            params,
             &[],
             vec![Stmt::Return(and(
-                and(n("WRONG_ASSUMPTION_BRAKE"), call("inArea")),
-                call("observedFast"),
+                and(n("WRONG_ASSUMPTION_BRAKE"), guard_call(g, "inArea")),
+                guard_call(g, "observedFast"),
             ))],
         ),
         func(
@@ -300,15 +409,18 @@ fn guard_functions(rule: DangerRule) -> Vec<Decl> {
             &[],
             vec![Stmt::Return(violation())],
         ),
-    ]
+    ]);
+    out
 }
 
 /// `collisionDanger()` under the problem's danger rule, multiplied out (no division).
-fn collision_danger(rule: DangerRule) -> Decl {
-    let observed_gap = call("observedGap");
+fn collision_danger(g: &Grid) -> Decl {
+    let rule = g.rule;
+    let observed_gap = guard_call(g, "observedGap");
+    let in_area = guard_call(g, "inArea");
     let danger = match rule {
         DangerRule::Paper => and(
-            call("inArea"),
+            in_area,
             bin(
                 Op::Le,
                 mul(sub(observed_gap.clone(), n("BUFFER")), n("BRK")),
@@ -316,7 +428,7 @@ fn collision_danger(rule: DangerRule) -> Decl {
             ),
         ),
         DangerRule::Kinematic => and(
-            call("inArea"),
+            in_area,
             bin(
                 Op::Le,
                 mul(
@@ -326,8 +438,9 @@ fn collision_danger(rule: DangerRule) -> Decl {
                 add(mul(n("v"), n("v")), mul(mul(int(2), n("VA")), n("v"))),
             ),
         ),
-        DangerRule::Area => call("inArea"),
+        DangerRule::Area => in_area,
     };
+
     let danger_doc = match rule {
         DangerRule::Paper => {
             "Collision danger (the seed's rule): the observed gap o is in the area and\n\
@@ -348,7 +461,7 @@ fn collision_danger(rule: DangerRule) -> Decl {
         danger_doc,
         Ty::Bool,
         "collisionDanger",
-        &[],
+        err_params(g),
         &[],
         vec![Stmt::Return(danger)],
     )
@@ -382,6 +495,46 @@ fn period_functions(g: &Grid) -> Vec<Decl> {
         up_to: Some(n("L")),
         body: vec![Stmt::SetElem("gapAt", n("j"), start)],
     });
+    let mut shift = vec![
+        Stmt::SetElem("gapAt", n("j"), elem("gapAt", sub(n("j"), int(1)))),
+        Stmt::SetElem("fastAt", n("j"), elem("fastAt", sub(n("j"), int(1)))),
+    ];
+    let mut fast = bin(Op::Gt, n("w"), n("VA"));
+    let mut measured = vec![];
+    if noisy(g) {
+        shift.push(Stmt::SetElem(
+            "slowAt",
+            n("j"),
+            elem("slowAt", sub(n("j"), int(1))),
+        ));
+        fast = bin(Op::Gt, add(n("w"), n("SW")), n("VA"));
+        measured.push(Stmt::SetElem(
+            "slowAt",
+            int(0),
+            bin(Op::Le, sub(n("w"), n("SW")), n("VA")),
+        ));
+    }
+    let mut end = vec![
+        Stmt::Set("gap", sub(sub(n("gap"), n("dx")), n("w"))),
+        Stmt::Set("v", n("vEnd")),
+        Stmt::For {
+            var: "j",
+            from: n("L"),
+            up_to: None,
+            body: shift,
+        },
+        Stmt::SetElem("gapAt", int(0), n("gap")),
+        Stmt::SetElem("fastAt", int(0), fast),
+    ];
+    end.extend(measured);
+    end.extend([
+        Stmt::Set("w", int(0)),
+        Stmt::If(
+            bin(Op::Lt, n("k"), n("L")),
+            vec![Stmt::Set("k", add(n("k"), int(1)))],
+            vec![],
+        ),
+    ]);
     vec![
         func(&init_doc, Ty::Void, "initialise", params, &["j"], init),
         func(
@@ -391,27 +544,7 @@ fn period_functions(g: &Grid) -> Vec<Decl> {
             "endPeriod",
             &["dx", "vEnd"],
             &["j"],
-            vec![
-                Stmt::Set("gap", sub(sub(n("gap"), n("dx")), n("w"))),
-                Stmt::Set("v", n("vEnd")),
-                Stmt::For {
-                    var: "j",
-                    from: n("L"),
-                    up_to: None,
-                    body: vec![
-                        Stmt::SetElem("gapAt", n("j"), elem("gapAt", sub(n("j"), int(1)))),
-                        Stmt::SetElem("fastAt", n("j"), elem("fastAt", sub(n("j"), int(1)))),
-                    ],
-                },
-                Stmt::SetElem("gapAt", int(0), n("gap")),
-                Stmt::SetElem("fastAt", int(0), bin(Op::Gt, n("w"), n("VA"))),
-                Stmt::Set("w", int(0)),
-                Stmt::If(
-                    bin(Op::Lt, n("k"), n("L")),
-                    vec![Stmt::Set("k", add(n("k"), int(1)))],
-                    vec![],
-                ),
-            ],
+            end,
         ),
     ]
 }
@@ -570,8 +703,11 @@ fn violation() -> Expr {
     )
 }
 
-fn brake_guard() -> Expr {
-    or(call("collisionDanger"), call("wrongAssumption"))
+fn brake_guard(g: &Grid) -> Expr {
+    or(
+        guard_call(g, "collisionDanger"),
+        guard_call(g, "wrongAssumption"),
+    )
 }
 
 fn edge(source: usize, target: usize) -> Edge {
@@ -602,13 +738,17 @@ fn robot_template(g: &Grid) -> Template {
     };
     let decide = Some(("decide", Dir::Receive));
     let advance = Some(("advance", Dir::Receive));
+    // With noise the observation's error is selected on the decide edge (its index e).
+    let select = noisy(g).then_some(("e", "5", 5));
     let keep = |from: usize| Edge {
-        guard: Some(not(brake_guard())),
+        select,
+        guard: Some(not(brake_guard(g))),
         sync: decide,
         ..edge(from, from)
     };
     let to_brake = |from: usize| Edge {
-        guard: Some(brake_guard()),
+        select,
+        guard: Some(brake_guard(g)),
         sync: decide,
         ..edge(from, BRAKE)
     };
