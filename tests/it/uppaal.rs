@@ -10,8 +10,9 @@
 //! - behaviour: the network the XML is printed from, run by the interpreter
 //!   ([`safereach::crosscheck::uppaal::explore_grid`]), answers what the explorer answers on the same
 //!   finite model — verdict, shortest collision period and minimum separation — over every
-//!   danger rule, latencies 0–3 and W below and above V_a. Broken variants of the network are
-//!   caught by the interpreter (it has teeth).
+//!   danger rule, latencies 0–3 and W below and above V_a, and (latencies 0–2) with weaker
+//!   brakes, a moving start, a range of initial gaps, sensing noise and occlusion. Broken
+//!   variants of the network are caught by the interpreter (it has teeth).
 
 use std::collections::{BTreeSet, HashMap};
 
@@ -758,6 +759,101 @@ fn too_few_observation_errors_are_caught() {
         }
     }
     assert!(caught > 0, "too few errors went unnoticed");
+}
+
+fn occlusion(p: &mut Problem, d_det: f64, sg: f64, sw: f64) {
+    p.sensing = Some(Sensing {
+        gap_noise: Some(sg),
+        speed_noise: Some(sw),
+        first_detection_gap: Some(d_det),
+    });
+}
+
+#[test]
+fn occlusion_agrees_with_the_explorer() {
+    for d_det in [0.25, 0.5, 0.9] {
+        let label = format!("first_detection_gap {d_det}");
+        let v = sweep(|p| occlusion(p, d_det, 0.0, 0.0), &label);
+        assert_eq!(
+            v.len(),
+            2,
+            "{label}: both safe and colliding problems: {v:?}"
+        );
+    }
+    // With noise, b_min and a moving start.
+    let v = sweep(
+        |p| {
+            occlusion(p, 0.5, 0.05, 0.15);
+            p.robot.braking_min = Some(0.3);
+            p.robot.initial_speed = Some(0.2);
+        },
+        "occlusion with noise, b_min, v0",
+    );
+    assert!(!v.is_empty());
+    // A start below d_det has no behaviour at all.
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 1.0, 1.2);
+    occlusion(&mut p, 1.5, 0.0, 0.0);
+    assert_eq!(agree(&p, "3", "never seen"), ExploreVerdict::Safe);
+}
+
+#[test]
+fn occlusion_is_declared_and_used() {
+    let mut p = small(DangerRule::Paper, 0, 0.1, true, 1.0, 1.2);
+    occlusion(&mut p, 0.5, 0.0, 0.0);
+    let m = export(&p, "3");
+    let c = constants(&m);
+    let d = Exact::from(m.grid.scale.clone());
+    assert_eq!(Exact::from(c["DDET"]) / d, Exact::from(1) / Exact::from(2));
+    let text = declaration(&m);
+    for f in [
+        "bool seen = false;",
+        "bool shown() {",
+        "bool lostAfter(int dx) {",
+        "return !seen && gap - dx - w < DDET;",
+    ] {
+        assert!(text.contains(f), "missing {f}:\n{text}");
+    }
+    check_structure(&m.xml);
+    assert!(
+        m.xml.contains("G0 &gt;= DDET"),
+        "a start below DDET is no behaviour"
+    );
+    assert!(m.xml.contains("!lostAfter(VMAX)"));
+    p.robot.latency = 2;
+    let text = declaration(&export(&p, "3"));
+    assert!(
+        text.contains("return !seen && gapAt[L - 1] < DDET;"),
+        "{text}"
+    );
+}
+
+/// A network that lets the hidden obstacle stay hidden for good (no lost behaviours cut)
+/// answers differently from the explorer.
+#[test]
+fn hiding_the_obstacle_for_good_is_caught() {
+    let mut caught = 0;
+    for rule in [DangerRule::Paper, DangerRule::Area] {
+        for latency in 0..=2 {
+            let mut p = small(rule, latency, 0.1, true, 1.0, 1.2);
+            occlusion(&mut p, 0.5, 0.0, 0.0);
+            let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+            let m = uppaal::export(&p, &set).unwrap();
+            let broken = with_decl(&m, |d| {
+                if let Decl::Func(f) = d
+                    && f.name == "lostAfter"
+                {
+                    f.body = vec![uppaal::Stmt::Return(uppaal::Expr::Bool(false))];
+                }
+            });
+            let g = uppaal::explore_grid(&broken, &Options::default()).unwrap();
+            let e = explore::explore(&p, set, &Options::default()).unwrap();
+            if (g.verdict, g.collision_period) != (e.verdict, e.counterexample.map(|c| c.periods()))
+            {
+                caught += 1;
+            }
+        }
+    }
+    assert!(caught > 0, "hiding for good went unnoticed");
 }
 
 /// A network whose danger distance used the plant's b_min instead of the controller's b

@@ -52,6 +52,8 @@ pub struct Grid {
     pub sigma_g: i64,
     /// σ_w·dt·D: the speed noise (0 without).
     pub sigma_w: i64,
+    /// d_det·D: occlusion's first-detection gap (None: the obstacle is never hidden).
+    pub d_det: Option<i64>,
     /// Lowest value a gap variable can take.
     pub gap_min: i64,
     /// The danger rule.
@@ -137,6 +139,7 @@ fn grid_quantities(
         p.sigma_g.clone(),
         p.sigma_w.clone() * dt.clone(),
     ]);
+    need.extend(p.d_det.clone());
     need.extend(speeds.speeds().iter().map(|w| w.clone() * dt.clone()));
     // The period in which the robot reaches v_max: v_max·dt − (v_max − u)²/(2a) (none for a
     // robot that starts at top speed).
@@ -203,13 +206,6 @@ impl Grid {
         n: usize,
     ) -> Result<Grid, UppaalError> {
         let p: Params<Exact> = problem.params();
-        if p.d_det.is_some() {
-            return Err(UppaalError::Grid(
-                "the UPPAAL export models an obstacle visible from the start; \
-                 sensing.first_detection_gap (occlusion) is not exported yet"
-                    .into(),
-            ));
-        }
         let starts = FiniteModel::from_params(p.clone(), speeds.clone())
             .with_starts(n)
             .map_err(|e| UppaalError::Options(e.to_string()))?
@@ -255,6 +251,11 @@ impl Grid {
         let buffer = to_int(&on_grid(p.buffer.clone()), "the buffer")?;
         let sigma_g = to_int(&on_grid(p.sigma_g.clone()), "the gap noise")?;
         let sigma_w = to_int(&on_grid(p.sigma_w.clone() * dt.clone()), "σ_w·dt")?;
+        let d_det = p
+            .d_det
+            .clone()
+            .map(|d| to_int(&on_grid(d), "the first-detection gap"))
+            .transpose()?;
         let clearance = to_int(&on_grid(p.clearance.clone()), "the clearance")?;
         let speeds_int = speeds
             .speeds()
@@ -280,6 +281,7 @@ impl Grid {
             speeds: speeds_int,
             sigma_g,
             sigma_w,
+            d_det,
             gap_min,
             rule: p.rule,
             wrong_assumption_brake: p.wrong_assumption_brake,

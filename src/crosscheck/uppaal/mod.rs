@@ -18,15 +18,17 @@
 //!   braking, `BRKMIN`, written only when b_min < b).
 //!
 //! D is the least common multiple of the denominators of every quantity the model's integer
-//! arithmetic produces: the initial gap (every start of a range), σ_g, σ_w·dt, clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2,
-//! b·dt²/2, b_min·dt²/2, each obstacle speed × dt, the distance of the step in which the robot
-//! reaches v_max (none when it starts at v_max), and for every speed the robot can brake from
-//! (v0, then one per period until v_max), the distance it and each obstacle speed cover in
-//! the last, partial braking period at b_min. With that D every position the model reaches is an
-//! integer and every division in the model is exact — the grid model is the rational model
-//! scaled by D, behaviour for behaviour. The reaction radius is the one number that need not
-//! be on the grid: `observed ≤ ρ` is written `observed ≤ ⌊ρ·D⌋`, which is the same condition
-//! for an integer `observed`. The collision-danger guard o ≤ d_coll(v) is multiplied out
+//! arithmetic produces: the initial gap (every start of a range), σ_g, σ_w·dt, d_det,
+//! clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2, b·dt²/2, b_min·dt²/2, each obstacle
+//! speed × dt, the distance of the step in which the robot reaches v_max (none when it
+//! starts at v_max), and for every speed the robot can brake from (v0, then one per period
+//! until v_max), the distance it and each obstacle speed cover in the last, partial braking
+//! period at b_min; with gap noise, D is then multiplied by the least factor that makes every
+//! positive guard threshold a whole unit ("Sensing noise" below). With that D every position
+//! the model reaches is an integer and every division in the model is exact — the grid
+//! model is the rational model scaled by D, behaviour for behaviour. The reaction radius is
+//! the one number that need not be on the grid: `observed ≤ ρ` is written
+//! `observed ≤ ⌊ρ·D⌋`, which is the same condition for an integer `observed`. The collision-danger guard o ≤ d_coll(v) is multiplied out
 //! (`(o − BUFFER)·BRK ≤ v·v + VA·v` for the paper's rule), so it needs no division at all.
 //! When the scaled numbers or the guard's products do not fit UPPAAL's 32-bit `int`, the
 //! export refuses ([`UppaalError::Grid`]) rather than round.
@@ -109,6 +111,34 @@
 //!
 //! Without noise, nothing of this is written (no `SG`, `SW`, `slowAt`, select or
 //! parameter), so those exports are unchanged.
+//!
+//! # Occlusion: the first sighting as a choice, lost behaviours blocked
+//!
+//! With `first_detection_gap` d_det (`DDET` = d_det·D on the grid) the obstacle may stay
+//! hidden for any prefix of the observations and is first seen at an observation of a true
+//! gap ≥ d_det (docs/semantics.md §12). The network keeps one bit, `seen`. In Accelerate and
+//! Drive the robot's decide edges are: *hidden* (`!seen`: nothing is observed, no guard
+//! fires), and keep / brake guarded by `shown() && …`, where `shown()` is `seen`, or an
+//! observation exists whose true gap `gapAt[L]` is ≥ `DDET` (the environment shows the
+//! obstacle now); both set `seen`. These are the explorer's choices at a state: stay
+//! hidden, or (where its `may_show` holds) be first seen, then the guard on that
+//! observation; once seen, the guard as without occlusion.
+//!
+//! The explorer leaves out *lost* states — hidden, and no observation to come can show a true
+//! gap ≥ d_det — and the steps into them: no behaviour goes through them (docs of
+//! `explore`). Gaps never grow, so the first observation to come decides it: after a period
+//! that is the one made at the next decision, of `gapAt[L − 1]` (L ≥ 1; the start while
+//! fewer than L periods have passed, since the history is initialised with it) or of the
+//! gap at the period's end, `gap − dx − w` (L = 0). `lostAfter(dx)` tests exactly that, and
+//! the robot's advance edges in Accelerate and Drive (the only modes a hidden obstacle
+//! leaves the robot in) are guarded by `!lostAfter(dx)` with their own travel dx, so the
+//! network never enters a lost state: the step into it is not taken, and a violation there
+//! is never reached. Likewise Init's edge takes only starts ≥ `DDET` (a start below it is
+//! lost from the outset). A state the network does reach is on a behaviour of the explorer
+//! (its continuation showing the obstacle at the next admissible observation), so the
+//! reachable violations, rest gaps and shortest collision periods are the explorer's.
+//! Blocking leaves the network in Move with no `advance` partner (a time-lock, not a
+//! violation): UPPAAL's `A[]` query is unaffected, and the deadlock is not a behaviour.
 //!
 //! # Scenes: the seed's whole network
 //!

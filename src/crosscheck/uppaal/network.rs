@@ -18,6 +18,7 @@ pub(super) fn network(problem: &Problem, grid: &Grid, speeds: &SpeedSet) -> Netw
     let mut declarations = constants(problem, grid, speeds);
     declarations.extend(variables(grid));
     declarations.extend(guard_functions(grid));
+    declarations.extend(occlusion_functions(grid));
     declarations.extend(period_functions(grid));
     declarations.extend(motion_functions(plant_brake(grid)));
     Network {
@@ -133,6 +134,13 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
     if g.v0 != 0 {
         out.push(constant("V0", g.v0, "the robot's speed at t = 0, v0 * dt"));
     }
+    if let Some(d) = g.d_det {
+        out.push(constant(
+            "DDET",
+            d,
+            "occlusion: the obstacle is first seen at a true gap >= DDET",
+        ));
+    }
     if noisy(g) {
         out.extend([
             constant(
@@ -234,6 +242,15 @@ fn variables(g: &Grid) -> Vec<Decl> {
             },
         },
     ];
+    if g.d_det.is_some() {
+        out.push(Decl::Var {
+            name: "seen",
+            range: None,
+            len: None,
+            init: 0,
+            note: "occlusion: the obstacle has been seen (it stays seen)".into(),
+        });
+    }
     if noisy(g) {
         out.push(Decl::Var {
             name: "slowAt",
@@ -413,6 +430,51 @@ fn guard_functions(g: &Grid) -> Vec<Decl> {
     out
 }
 
+/// Occlusion: whether the obstacle is seen at this decision, and whether a period would
+/// end with it hidden for good (none for a problem without occlusion).
+fn occlusion_functions(g: &Grid) -> Vec<Decl> {
+    if g.d_det.is_none() {
+        return vec![];
+    }
+    // The observation the robot makes after the period: of the current gap (L = 0), else
+    // of the gap the history moves to index L. Before L it is the start, still in gapAt.
+    let next = if g.latency == 0 {
+        sub(sub(n("gap"), n("dx")), n("w"))
+    } else {
+        elem("gapAt", sub(n("L"), int(1)))
+    };
+    vec![
+        func(
+            "Occlusion: the obstacle is seen at this decision if it was seen before, or if the\n\
+             environment shows it now, which it may at an observation of a true gap >= DDET.",
+            Ty::Bool,
+            "shown",
+            &[],
+            &[],
+            vec![Stmt::Return(or(
+                n("seen"),
+                and(
+                    call("observing"),
+                    bin(Op::Ge, elem("gapAt", n("L")), n("DDET")),
+                ),
+            ))],
+        ),
+        func(
+            "A period of travel dx that would leave the obstacle hidden with no sighting left:\n\
+             the next observation shows a true gap < DDET (gaps never grow). No behaviour goes\n\
+             there (its first sighting came too late), so the robot's advance is blocked.",
+            Ty::Bool,
+            "lostAfter",
+            &["dx"],
+            &[],
+            vec![Stmt::Return(and(
+                not(n("seen")),
+                bin(Op::Lt, next, n("DDET")),
+            ))],
+        ),
+    ]
+}
+
 /// `collisionDanger()` under the problem's danger rule, multiplied out (no division).
 fn collision_danger(g: &Grid) -> Decl {
     let rule = g.rule;
@@ -549,6 +611,22 @@ fn period_functions(g: &Grid) -> Vec<Decl> {
     ]
 }
 
+/// The distance the robot covers in a whole period of acceleration: v + ACC/2.
+fn accelerate_dx() -> Expr {
+    add(n("v"), div(n("ACC"), int(2)))
+}
+
+/// The distance of the period in which it reaches VMAX: VMAX - (VMAX - v)^2/(2*ACC).
+fn top_speed_dx() -> Expr {
+    sub(
+        n("VMAX"),
+        div(
+            mul(sub(n("VMAX"), n("v")), sub(n("VMAX"), n("v"))),
+            mul(int(2), n("ACC")),
+        ),
+    )
+}
+
 /// The robot's motion over one period, one function per mode (each ends the period).
 /// `brk` names the plant's braking constant (`BRK`, or `BRKMIN` when it is weaker).
 fn motion_functions(brk: &'static str) -> Vec<Decl> {
@@ -566,7 +644,7 @@ fn motion_functions(brk: &'static str) -> Vec<Decl> {
             &[],
             vec![Stmt::Call(
                 "endPeriod",
-                vec![add(n("v"), div(n("ACC"), int(2))), add(n("v"), n("ACC"))],
+                vec![accelerate_dx(), add(n("v"), n("ACC"))],
             )],
         ),
         func(
@@ -575,19 +653,7 @@ fn motion_functions(brk: &'static str) -> Vec<Decl> {
             "reachTopSpeed",
             &[],
             &[],
-            vec![Stmt::Call(
-                "endPeriod",
-                vec![
-                    sub(
-                        n("VMAX"),
-                        div(
-                            mul(sub(n("VMAX"), n("v")), sub(n("VMAX"), n("v"))),
-                            mul(int(2), n("ACC")),
-                        ),
-                    ),
-                    n("VMAX"),
-                ],
-            )],
+            vec![Stmt::Call("endPeriod", vec![top_speed_dx(), n("VMAX")])],
         ),
         func(
             "Cruise at VMAX.",
@@ -740,17 +806,52 @@ fn robot_template(g: &Grid) -> Template {
     let advance = Some(("advance", Dir::Receive));
     // With noise the observation's error is selected on the decide edge (its index e).
     let select = noisy(g).then_some(("e", "5", 5));
+    // Occlusion: the guard is evaluated only when the obstacle is shown, which marks it seen.
+    let occluded = g.d_det.is_some();
+    let shown = |guard: Expr| {
+        if occluded {
+            and(call("shown"), guard)
+        } else {
+            guard
+        }
+    };
+    let mark = || {
+        if occluded {
+            vec![Stmt::Set("seen", Expr::Bool(true))]
+        } else {
+            vec![]
+        }
+    };
     let keep = |from: usize| Edge {
         select,
-        guard: Some(not(brake_guard(g))),
+        guard: Some(shown(not(brake_guard(g)))),
         sync: decide,
+        update: mark(),
         ..edge(from, from)
     };
     let to_brake = |from: usize| Edge {
         select,
-        guard: Some(brake_guard(g)),
+        guard: Some(shown(brake_guard(g))),
         sync: decide,
+        update: mark(),
         ..edge(from, BRAKE)
+    };
+    // Occlusion: the obstacle stays hidden (nothing is observed, no guard fires).
+    let hidden = |from: usize| Edge {
+        guard: Some(not(n("seen"))),
+        sync: decide,
+        ..edge(from, from)
+    };
+    // Occlusion: a period of travel dx must not leave the obstacle hidden for good.
+    let admissible = |guard: Option<Expr>, dx: Expr| {
+        if !occluded {
+            return guard;
+        }
+        let ok = not(Expr::Call("lostAfter", vec![dx]));
+        Some(match guard {
+            Some(g) => and(g, ok),
+            None => ok,
+        })
     };
     let mv = |from: usize, to: usize, guard: Option<Expr>, f: &'static str| Edge {
         guard,
@@ -770,47 +871,68 @@ fn robot_template(g: &Grid) -> Template {
             loc("Stop", Kind::Normal, (-150, 250)),
         ],
         init: IDLE,
-        edges: vec![
-            // The robot starts in Drive at top speed, else in Accelerate (RobotState::initial).
-            edge(IDLE, if g.v0 >= g.v_max { DRIVE } else { ACC }),
-            keep(ACC),
-            to_brake(ACC),
-            keep(DRIVE),
-            to_brake(DRIVE),
-            Edge {
-                sync: decide,
-                ..edge(BRAKE, BRAKE)
+        edges: [
+            vec![
+                // The robot starts in Drive at top speed, else in Accelerate
+                // (RobotState::initial).
+                edge(IDLE, if g.v0 >= g.v_max { DRIVE } else { ACC }),
+            ],
+            if occluded {
+                vec![hidden(ACC), hidden(DRIVE)]
+            } else {
+                vec![]
             },
-            mv(
-                ACC,
-                ACC,
-                Some(bin(Op::Gt, sub(n("VMAX"), n("v")), n("ACC"))),
-                "accelerate",
-            ),
-            mv(
-                ACC,
-                DRIVE,
-                Some(bin(Op::Le, sub(n("VMAX"), n("v")), n("ACC"))),
-                "reachTopSpeed",
-            ),
-            mv(DRIVE, DRIVE, None, "drive"),
-            mv(BRAKE, BRAKE, Some(bin(Op::Gt, n("v"), n(brk))), "brake"),
-            mv(BRAKE, STOP, Some(bin(Op::Le, n("v"), n(brk))), "stop"),
-        ],
+            vec![
+                keep(ACC),
+                to_brake(ACC),
+                keep(DRIVE),
+                to_brake(DRIVE),
+                Edge {
+                    sync: decide,
+                    ..edge(BRAKE, BRAKE)
+                },
+                mv(
+                    ACC,
+                    ACC,
+                    admissible(
+                        Some(bin(Op::Gt, sub(n("VMAX"), n("v")), n("ACC"))),
+                        accelerate_dx(),
+                    ),
+                    "accelerate",
+                ),
+                mv(
+                    ACC,
+                    DRIVE,
+                    admissible(
+                        Some(bin(Op::Le, sub(n("VMAX"), n("v")), n("ACC"))),
+                        top_speed_dx(),
+                    ),
+                    "reachTopSpeed",
+                ),
+                mv(DRIVE, DRIVE, admissible(None, n("VMAX")), "drive"),
+                mv(BRAKE, BRAKE, Some(bin(Op::Gt, n("v"), n(brk))), "brake"),
+                mv(BRAKE, STOP, Some(bin(Op::Le, n("v"), n(brk))), "stop"),
+            ],
+        ]
+        .concat(),
     }
 }
 
 fn obstacle_template(g: &Grid) -> Template {
     let nw = g.speeds.len() as i64;
     // A range: the environment picks the start, one of the explorer's.
+    // Occlusion: a start below DDET can never be seen, so no behaviour starts there.
+    let seeable = |start: Expr| g.d_det.is_some().then(|| bin(Op::Ge, start, n("DDET")));
     let init = if g.starts.len() > 1 {
         Edge {
             select: Some(("s", "NSTART - 1", g.starts.len() as i64 - 1)),
+            guard: seeable(elem("GSTART", n("s"))),
             update: vec![Stmt::Call("initialise", vec![elem("GSTART", n("s"))])],
             ..edge(INIT, IDLE)
         }
     } else {
         Edge {
+            guard: seeable(n("G0")),
             update: vec![Stmt::Call("initialise", vec![])],
             ..edge(INIT, IDLE)
         }
