@@ -856,6 +856,43 @@ fn hiding_the_obstacle_for_good_is_caught() {
     assert!(caught > 0, "hiding for good went unnoticed");
 }
 
+/// The settings above over more speeds and latencies, each alone and combined (a larger
+/// sweep: run with `--ignored`).
+#[test]
+#[ignore = "a larger sweep (about 70 s in release)"]
+fn the_real_sensors_settings_agree_with_the_explorer_over_more_speeds() {
+    type Change = fn(&mut Problem);
+    let changes: [(&str, Change); 5] = [
+        ("b_min, v0", |p| {
+            p.robot.braking_min = Some(0.25);
+            p.robot.initial_speed = Some(0.3);
+        }),
+        ("range", |p| {
+            p.environment.initial_gap = Position::Range(0.9, 1.5)
+        }),
+        ("noise", |p| sensing(p, 0.1, 0.1)),
+        ("occlusion", |p| occlusion(p, 0.7, 0.0, 0.0)),
+        ("all but the range", |p| {
+            p.robot.braking_min = Some(0.25);
+            p.robot.initial_speed = Some(0.1);
+            occlusion(p, 0.4, 0.03, 0.12);
+        }),
+    ];
+    for (label, change) in changes {
+        for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+            for latency in 0..=3 {
+                for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3), (0.3, false, 1.0)] {
+                    let mut p = small(rule, latency, w, wab, rho, 1.2);
+                    change(&mut p);
+                    p.validate("uppaal-test").expect("a valid test problem");
+                    let what = format!("{label}: {rule} L={latency} W={w} wab={wab} rho={rho}");
+                    agree(&p, "4", &what);
+                }
+            }
+        }
+    }
+}
+
 /// A network whose danger distance used the plant's b_min instead of the controller's b
 /// would answer differently from the explorer: the comparison catches it.
 #[test]
