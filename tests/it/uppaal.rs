@@ -301,7 +301,11 @@ fn declarations_write_out_the_guards_in_uppaals_language() {
         declaration(&export(&area, "5"))
             .contains("bool collisionDanger() {\n    return inArea();\n}")
     );
-    // Balanced braces and parentheses; every statement line ends in ; { or }.
+    check_lines(&d);
+}
+
+/// Balanced braces and parentheses; every statement line ends in ; { or }.
+fn check_lines(d: &str) {
     assert_eq!(d.matches('{').count(), d.matches('}').count());
     assert_eq!(d.matches('(').count(), d.matches(')').count());
     for line in d.lines().map(str::trim) {
@@ -526,6 +530,7 @@ fn weaker_brakes_and_a_moving_start_are_declared_and_used() {
     assert_eq!(on("BRKMIN"), x.b_min.clone() * x.dt.clone() * x.dt.clone());
     assert_eq!(on("V0"), x.v0.clone() * x.dt.clone());
     let text = declaration(&m);
+    check_lines(&text);
     // The controller's b in the danger distance, the plant's b_min in the motion.
     assert!(text.contains("2 * (observedGap() - BUFFER) * BRK <= v * v + 2 * VA * v;"));
     assert!(
@@ -588,6 +593,7 @@ fn a_range_is_declared_as_the_explorers_starts() {
     assert_eq!(c["G0MAX"], *m.grid.starts.last().unwrap());
     assert!(!c.contains_key("G0"));
     let text = declaration(&m);
+    check_lines(&text);
     assert!(text.contains("const int GSTART[NSTART] = {"), "{text}");
     assert!(text.contains("void initialise(int g0) {"), "{text}");
     assert!(text.contains("int[GMIN,G0MAX] gap"), "{text}");
@@ -682,6 +688,7 @@ fn sensing_noise_is_declared_and_selected_on_the_decide_edge() {
     assert_eq!(Exact::from(c["SG"]) / d.clone(), x.sigma_g);
     assert_eq!(Exact::from(c["SW"]) / d, x.sigma_w.clone() * x.dt.clone());
     let text = declaration(&m);
+    check_lines(&text);
     for f in [
         "int observedGap(int e) {",
         "bool observedFast(int e) {",
@@ -805,6 +812,7 @@ fn occlusion_is_declared_and_used() {
     let d = Exact::from(m.grid.scale.clone());
     assert_eq!(Exact::from(c["DDET"]) / d, Exact::from(1) / Exact::from(2));
     let text = declaration(&m);
+    check_lines(&text);
     for f in [
         "bool seen = false;",
         "bool shown() {",

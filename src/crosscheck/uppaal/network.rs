@@ -127,8 +127,7 @@ fn constants(problem: &Problem, g: &Grid, speeds: &SpeedSet) -> Vec<Decl> {
         out.push(constant(
             "BRKMIN",
             g.brk_min,
-            "speed the plant loses per period while braking, b_min * dt^2 (its worst case;\n\
-             BRK, the controller's b, stays in the danger distance)",
+            "speed the plant loses per period while braking, b_min * dt^2 (BRK stays in d_coll)",
         ));
     }
     if g.v0 != 0 {
@@ -233,8 +232,7 @@ fn variables(g: &Grid) -> Vec<Decl> {
             len: Some(("L + 1".into(), g.latency + 1)),
             init: 0,
             note: if noisy(g) {
-                "fastAt[j]: the speed of the period that ended j periods ago can be measured\n\
-                 above V_a"
+                "fastAt[j]: the speed of the period that ended j periods ago can be measured above V_a"
                     .into()
             } else {
                 "fastAt[j]: the obstacle was faster than V_a in the period that ended j periods ago"
@@ -257,8 +255,7 @@ fn variables(g: &Grid) -> Vec<Decl> {
             range: None,
             len: Some(("L + 1".into(), g.latency + 1)),
             init: 1,
-            note: "slowAt[j]: ... can be measured at or below V_a (the speed before the first\n\
-                   period is 0 exactly: slow)"
+            note: "slowAt[j]: ... can be measured at or below V_a (0 before the first period)"
                 .into(),
         });
     }
@@ -342,7 +339,7 @@ fn observation_functions(g: &Grid) -> Vec<Decl> {
              picks the gap: 0 the lowest it can be seen at, 1 the highest, 2 the lowest\n\
              positive one (the highest if none is positive). These three realise every\n\
              outcome of the guard that some error in the whole interval allows (the guard\n\
-             fires on a gap in (0, threshold], and is quiet at or below 0 or above it).",
+             fires on a gap above 0 and at most its threshold, else it is quiet).",
             Ty::Int,
             "observedGap",
             &["e"],
