@@ -85,13 +85,9 @@ const DEFAULT_SPEEDS: &str = "5";
 
 /// Runs `safereach explore`: exit 0 safe, 1 collision, 3 inconclusive.
 pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
-    // The explorer takes a range of initial gaps as a finite set of starts; the grid
-    // explorer, like the UPPAAL export, explores it as the scene it is.
-    let input = if args.grid {
-        input::problem_or_scene(&args.problem, &args.sets)?
-    } else {
-        input::problem_with_range_or_scene(&args.problem, &args.sets)?
-    };
+    // The explorer takes a range of initial gaps as a finite set of starts; so does the
+    // grid explorer, like the UPPAAL export (the same starts).
+    let input = input::problem_with_range_or_scene(&args.problem, &args.sets)?;
     let problem = match input {
         Input::Problem(problem) => problem,
         Input::Scene(scene) => {
@@ -140,7 +136,8 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
                 "--trace is not available with --grid (the grid explorer reports states, not traces)"
             );
         }
-        return run_grid(&problem, speeds, &options, args.json, out);
+        let starts = args.starts.unwrap_or(explore::DEFAULT_STARTS);
+        return run_grid(&problem, speeds, starts, &options, args.json, out);
     }
     let model = FiniteModel::new(&problem, speeds)
         .with_starts(args.starts.unwrap_or(explore::DEFAULT_STARTS))?;
@@ -370,11 +367,12 @@ fn choices(problem: &Problem, result: &Exploration, path: &explore::Path) -> Str
 fn run_grid(
     problem: &Problem,
     speeds: SpeedSet,
+    starts: usize,
     options: &Options,
     json: bool,
     out: &mut Output,
 ) -> Result<Exit> {
-    let model = uppaal::export(problem, &speeds)?;
+    let model = uppaal::export_with_starts(problem, &speeds, starts)?;
     let result: GridExploration = uppaal::explore_grid(&model, options)?;
     let sep = result.min_separation.as_ref().map(|g| g.to_f64().value());
     if json {

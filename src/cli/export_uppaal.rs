@@ -13,6 +13,7 @@ use anyhow::Result;
 
 use safereach::core::num::Exact;
 use safereach::core::scene::Scene;
+use safereach::crosscheck::explore::DEFAULT_STARTS;
 use safereach::crosscheck::explore::scene::SceneSpeeds;
 use safereach::crosscheck::uppaal;
 
@@ -33,6 +34,10 @@ pub struct ExportUppaalArgs {
     /// 5 for a problem, {0, W_i} for every obstacle of a scene).
     #[arg(long, value_name = "N|LIST")]
     speeds: Option<String>,
+    /// For a range of initial gaps: the obstacle automaton starts from N evenly spaced
+    /// initial gaps, both ends included (default 5), as `explore --starts N` explores them.
+    #[arg(long, value_name = "N")]
+    starts: Option<usize>,
     /// Model file to write (UPPAAL XML); the query goes beside it with extension `.q`.
     /// Default: the problem file's name with extension `.xml`, in the current directory.
     #[arg(long, value_name = "FILE")]
@@ -41,13 +46,28 @@ pub struct ExportUppaalArgs {
 
 /// Runs `safereach export-uppaal`: exit 0 when the model and the query are written.
 pub fn run(args: ExportUppaalArgs, out: &mut Output) -> Result<Exit> {
-    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
+    // A range of initial gaps stays a problem: its network starts from the explorer's starts.
+    let problem = match input::problem_with_range_or_scene(&args.problem, &args.sets)? {
         Input::Problem(problem) => problem,
-        Input::Scene(scene) => return run_scene(&args, &scene, out),
+        Input::Scene(scene) => {
+            if args.starts.is_some() {
+                anyhow::bail!(
+                    "--starts applies to single-obstacle problems; a scene's network starts \
+                     from both ends of every obstacle's position range"
+                );
+            }
+            return run_scene(&args, &scene, out);
+        }
     };
     let spec = args.speeds.as_deref().unwrap_or("5");
     let speeds = speed_set(&problem, spec)?;
-    let model = uppaal::export(&problem, &speeds)?;
+    let starts = args.starts.unwrap_or(DEFAULT_STARTS);
+    let model = uppaal::export_with_starts(&problem, &speeds, starts)?;
+    let starts_option = if model.grid.starts.len() > 1 {
+        format!(" --starts {starts}")
+    } else {
+        String::new()
+    };
     let (xml, query) = model_files(&args.problem, args.out.clone())?;
     write_file(&xml, model.xml.as_bytes())?;
     write_file(&query, model.query.as_bytes())?;
@@ -55,7 +75,7 @@ pub fn run(args: ExportUppaalArgs, out: &mut Output) -> Result<Exit> {
         out,
         "{}: wrote {} and {}\n  integer grid: 1 distance unit = 1/{} m, 1 time unit = one control period ({} s), \
          speeds in distance units per period; exact for this problem (no rounding)\n  \
-         obstacle speeds {} m/s; reference answer: safereach explore {} --speeds {}",
+         obstacle speeds {} m/s; reference answer: safereach explore {} --speeds {}{}",
         problem.name,
         xml.display(),
         query.display(),
@@ -63,7 +83,8 @@ pub fn run(args: ExportUppaalArgs, out: &mut Output) -> Result<Exit> {
         problem.robot.control_period,
         speeds,
         args.problem.display(),
-        spec
+        spec,
+        starts_option
     )?;
     Ok(Exit::Pass)
 }

@@ -10,13 +10,14 @@
 //! - behaviour: the network the XML is printed from, run by the interpreter
 //!   ([`safereach::crosscheck::uppaal::explore_grid`]), answers what the explorer answers on the same
 //!   finite model — verdict, shortest collision period and minimum separation — over every
-//!   danger rule, latencies 0–3 and W below and above V_a. Broken variants of the network are
-//!   caught by the interpreter (it has teeth).
+//!   danger rule, latencies 0–3 and W below and above V_a, and (latencies 0–2) with weaker
+//!   brakes, a moving start, a range of initial gaps, sensing noise and occlusion. Broken
+//!   variants of the network are caught by the interpreter (it has teeth).
 
 use std::collections::{BTreeSet, HashMap};
 
 use roxmltree::{Document, Node};
-use safereach::core::model::{Controller, DangerRule, Problem};
+use safereach::core::model::{Controller, DangerRule, Position, Problem, Sensing};
 use safereach::core::num::Exact;
 use safereach::crosscheck::explore::{self, ExploreVerdict, Options, SpeedSet};
 use safereach::crosscheck::uppaal::{self, Decl, UppaalError, UppaalModel};
@@ -300,7 +301,11 @@ fn declarations_write_out_the_guards_in_uppaals_language() {
         declaration(&export(&area, "5"))
             .contains("bool collisionDanger() {\n    return inArea();\n}")
     );
-    // Balanced braces and parentheses; every statement line ends in ; { or }.
+    check_lines(&d);
+}
+
+/// Balanced braces and parentheses; every statement line ends in ; { or }.
+fn check_lines(d: &str) {
     assert_eq!(d.matches('{').count(), d.matches('}').count());
     assert_eq!(d.matches('(').count(), d.matches(')').count());
     for line in d.lines().map(str::trim) {
@@ -445,6 +450,517 @@ fn the_seed_network_agrees_with_the_explorer() {
     );
     assert_eq!(g.min_separation, e.min_separation);
     assert!(g.states > e.states, "the network has no state abstraction");
+}
+
+/// What the interpreter and the explorer answer on the same finite model, compared: the
+/// verdict, the shortest collision period and (when safe) the minimum separation. Returns
+/// the verdict.
+fn agree(p: &Problem, speeds: &str, what: &str) -> ExploreVerdict {
+    agree_from(p, speeds, explore::DEFAULT_STARTS, what)
+}
+
+/// [`agree`] with `starts` starts in a range of initial gaps.
+fn agree_from(p: &Problem, speeds: &str, starts: usize, what: &str) -> ExploreVerdict {
+    let set = SpeedSet::parse(speeds, &p.params::<Exact>().W).unwrap();
+    let m = uppaal::export_with_starts(p, &set, starts).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let g = uppaal::explore_grid(&m, &Options::default()).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let model = explore::FiniteModel::new(p, set)
+        .with_starts(starts)
+        .unwrap();
+    let e = explore::explore_model(&model, &Options::default()).unwrap();
+    assert_eq!(m.grid.starts.len(), e.starts.len(), "{what}: starts");
+    assert!(g.complete && e.complete, "{what}");
+    assert_eq!(g.verdict, e.verdict, "{what}: verdict");
+    assert_eq!(
+        g.collision_period,
+        e.counterexample.as_ref().map(|c| c.periods()),
+        "{what}: shortest path to a collision, in periods"
+    );
+    if e.verdict == ExploreVerdict::Safe {
+        assert_eq!(g.min_separation, e.min_separation, "{what}: separation");
+    }
+    g.verdict
+}
+
+/// The small problems of the agreement tests, with `change` applied: every danger rule,
+/// latencies 0–2, W below V_a (guard active) and above it (with and without the guard).
+fn sweep(change: impl Fn(&mut Problem), label: &str) -> BTreeSet<String> {
+    let mut verdicts = BTreeSet::new();
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..=2 {
+            for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3), (0.3, false, 1.0)] {
+                let mut p = small(rule, latency, w, wab, rho, 1.2);
+                change(&mut p);
+                p.validate("uppaal-test").expect("a valid test problem");
+                let what = format!("{label}: {rule} L={latency} W={w} wab={wab} rho={rho}");
+                verdicts.insert(format!("{:?}", agree(&p, "3", &what)));
+            }
+        }
+    }
+    verdicts
+}
+
+#[test]
+fn weaker_brakes_and_a_moving_start_agree_with_the_explorer() {
+    let weaker = sweep(|p| p.robot.braking_min = Some(0.3), "braking_min 0.3");
+    let moving = sweep(|p| p.robot.initial_speed = Some(0.2), "initial_speed 0.2");
+    let cruising = sweep(
+        |p| {
+            p.robot.initial_speed = Some(0.4);
+            p.robot.braking_min = Some(0.4);
+        },
+        "initial_speed v_max, braking_min 0.4",
+    );
+    for v in [weaker, moving, cruising] {
+        assert_eq!(v.len(), 2, "both safe and colliding problems: {v:?}");
+    }
+}
+
+#[test]
+fn weaker_brakes_and_a_moving_start_are_declared_and_used() {
+    let mut p = small(DangerRule::Kinematic, 1, 0.1, true, 0.6, 1.2);
+    p.robot.braking_min = Some(0.3);
+    p.robot.initial_speed = Some(0.2);
+    let m = export(&p, "3");
+    let c = constants(&m);
+    let d = Exact::from(m.grid.scale.clone());
+    let x = p.params::<Exact>();
+    let on = |k: &str| Exact::from(c[k]) / d.clone();
+    assert_eq!(on("BRK"), x.b.clone() * x.dt.clone() * x.dt.clone());
+    assert_eq!(on("BRKMIN"), x.b_min.clone() * x.dt.clone() * x.dt.clone());
+    assert_eq!(on("V0"), x.v0.clone() * x.dt.clone());
+    let text = declaration(&m);
+    check_lines(&text);
+    // The controller's b in the danger distance, the plant's b_min in the motion.
+    assert!(text.contains("2 * (observedGap() - BUFFER) * BRK <= v * v + 2 * VA * v;"));
+    assert!(
+        text.contains("endPeriod(v - BRKMIN / 2, v - BRKMIN);"),
+        "{text}"
+    );
+    assert!(text.contains("v = V0;"));
+    check_structure(&m.xml);
+    // At top speed the robot starts in Drive.
+    p.robot.initial_speed = Some(0.4);
+    let m = export(&p, "3");
+    let robot = &m.network.templates[0];
+    assert_eq!(robot.locations[robot.edges[0].target].name, "Drive");
+    // Without them, neither constant is written: the seed's file is unchanged.
+    let plain = declaration(&export(&seed(), "5"));
+    assert!(!plain.contains("BRKMIN") && !plain.contains("V0"));
+}
+
+#[test]
+fn ranges_of_initial_gaps_agree_with_the_explorer() {
+    // Every start of the range one period's travel apart and less: the alignment with the
+    // control period differs between starts.
+    let range = sweep(
+        |p| p.environment.initial_gap = Position::Range(1.0, 1.4),
+        "initial_gap [1.0, 1.4]",
+    );
+    assert_eq!(
+        range.len(),
+        2,
+        "both safe and colliding problems: {range:?}"
+    );
+    // Other start counts, with the other settings.
+    for (starts, lo, hi) in [(2, 0.9, 1.3), (3, 1.0, 1.1), (7, 0.8, 1.6)] {
+        let mut p = small(DangerRule::Kinematic, 1, 0.1, true, 0.6, 1.2);
+        p.environment.initial_gap = Position::Range(lo, hi);
+        p.robot.braking_min = Some(0.3);
+        p.robot.initial_speed = Some(0.1);
+        let what = format!("--starts {starts} in [{lo}, {hi}]");
+        agree_from(&p, "3", starts, &what);
+    }
+}
+
+#[test]
+fn a_range_is_declared_as_the_explorers_starts() {
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 0.6, 1.2);
+    p.environment.initial_gap = Position::Range(1.0, 1.3);
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    let m = uppaal::export_with_starts(&p, &set, 4).unwrap();
+    let d = Exact::from(m.grid.scale.clone());
+    let model = explore::FiniteModel::new(&p, set).with_starts(4).unwrap();
+    let on_grid: Vec<Exact> = m
+        .grid
+        .starts
+        .iter()
+        .map(|&g| Exact::from(g) / d.clone())
+        .collect();
+    assert_eq!(on_grid, model.starts());
+    let c = constants(&m);
+    assert_eq!(c["NSTART"], 4);
+    assert_eq!(c["G0MAX"], *m.grid.starts.last().unwrap());
+    assert!(!c.contains_key("G0"));
+    let text = declaration(&m);
+    check_lines(&text);
+    assert!(text.contains("const int GSTART[NSTART] = {"), "{text}");
+    assert!(text.contains("void initialise(int g0) {"), "{text}");
+    assert!(text.contains("int[GMIN,G0MAX] gap"), "{text}");
+    check_structure(&m.xml);
+    assert!(
+        m.xml.contains("s : int[0, NSTART - 1]"),
+        "the start is a select"
+    );
+    assert!(m.xml.contains("initialise(GSTART[s])"));
+    assert!(m.xml.contains("--starts 4"));
+    // Bad start counts are refused as the explorer refuses them.
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    let err = uppaal::export_with_starts(&p, &set, 1).unwrap_err();
+    assert!(matches!(err, UppaalError::Options(_)), "{err}");
+}
+
+#[test]
+fn cli_exports_and_explores_a_range_as_the_explorers_starts() {
+    let dir = tmp();
+    let problem = dir.path().join("range.toml");
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 1.0, 1.2);
+    p.environment.initial_gap = Position::Range(1.0, 1.3);
+    p.robot.braking_min = Some(0.4);
+    std::fs::write(&problem, p.to_toml_string()).unwrap();
+    safereach(dir.path())
+        .arg("export-uppaal")
+        .arg(&problem)
+        .args(["--speeds", "3", "--starts", "3", "--out", "range.xml"])
+        .assert()
+        .code(0);
+    let xml = std::fs::read_to_string(dir.path().join("range.xml")).unwrap();
+    let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+    assert_eq!(xml, uppaal::export_with_starts(&p, &set, 3).unwrap().xml);
+    let json = |grid: bool| -> serde_json::Value {
+        let mut cmd = safereach(dir.path());
+        cmd.arg("explore")
+            .arg(&problem)
+            .args(["--speeds", "3", "--starts", "3", "--json"]);
+        if grid {
+            cmd.arg("--grid");
+        }
+        let out = cmd.assert().get_output().clone();
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let (g, e) = (json(true), json(false));
+    assert_eq!(g["grid"], true);
+    assert_eq!(g["verdict"], "safe");
+    assert_eq!(g["verdict"], e["verdict"]);
+    assert_eq!(g["min_separation"], e["min_separation"]);
+}
+
+fn sensing(p: &mut Problem, sg: f64, sw: f64) {
+    p.sensing = Some(Sensing {
+        gap_noise: Some(sg),
+        speed_noise: Some(sw),
+        first_detection_gap: None,
+    });
+}
+
+#[test]
+fn sensing_noise_agrees_with_the_explorer() {
+    for (sg, sw) in [(0.05, 0.0), (0.0, 0.15), (0.2, 0.05), (0.03, 0.12)] {
+        let label = format!("gap_noise {sg}, speed_noise {sw}");
+        let v = sweep(|p| sensing(p, sg, sw), &label);
+        assert_eq!(
+            v.len(),
+            2,
+            "{label}: both safe and colliding problems: {v:?}"
+        );
+    }
+    // With the other settings, and with no buffer (d_coll from 0 at rest).
+    let v = sweep(
+        |p| {
+            sensing(p, 0.05, 0.1);
+            p.robot.braking_min = Some(0.3);
+            p.robot.initial_speed = Some(0.2);
+            p.controller.buffer = 0.0;
+        },
+        "noise, b_min, v0, no buffer",
+    );
+    assert!(!v.is_empty());
+}
+
+#[test]
+fn sensing_noise_is_declared_and_selected_on_the_decide_edge() {
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 0.6, 1.2);
+    sensing(&mut p, 0.05, 0.15);
+    let m = export(&p, "3");
+    let c = constants(&m);
+    let d = Exact::from(m.grid.scale.clone());
+    let x = p.params::<Exact>();
+    assert_eq!(Exact::from(c["SG"]) / d.clone(), x.sigma_g);
+    assert_eq!(Exact::from(c["SW"]) / d, x.sigma_w.clone() * x.dt.clone());
+    let text = declaration(&m);
+    check_lines(&text);
+    for f in [
+        "int observedGap(int e) {",
+        "bool observedFast(int e) {",
+        "bool collisionDanger(int e) {",
+        "bool wrongAssumption(int e) {",
+        "fastAt[0] = w + SW > VA;",
+        "slowAt[0] = w - SW <= VA;",
+    ] {
+        assert!(text.contains(f), "missing {f}:\n{text}");
+    }
+    check_structure(&m.xml);
+    assert!(m.xml.contains("e : int[0, 5]"));
+    assert!(
+        m.xml
+            .contains("!(collisionDanger(e) || wrongAssumption(e))")
+    );
+}
+
+/// With gap noise every positive guard threshold is at least one grid unit (the grid is
+/// refined if need be), so that an integer observed gap fires whenever a real one can.
+#[test]
+fn gap_noise_refines_the_grid_to_whole_unit_thresholds() {
+    let mut p = small(DangerRule::Area, 0, 0.1, true, 0.0001, 1.2);
+    let plain = export(&p, "3");
+    assert_eq!(
+        plain.grid.rho, 0,
+        "without noise rho need not be a whole unit"
+    );
+    sensing(&mut p, 0.05, 0.0);
+    let m = export(&p, "3");
+    assert!(m.grid.rho >= 1, "rho is {} units", m.grid.rho);
+    assert_eq!(
+        m.grid.scale.clone() % plain.grid.scale.clone(),
+        0u8.into(),
+        "a refinement of the plain grid"
+    );
+    for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+        for latency in 0..=1 {
+            let mut q = small(rule, latency, 0.1, true, 0.0001, 1.2);
+            sensing(&mut q, 0.05, 0.0);
+            agree(&q, "3", &format!("tiny rho, {rule} L={latency}"));
+        }
+    }
+}
+
+/// With noise, errors that realise only part of the guard outcomes (the gap seen only at
+/// the ends of its interval, the speed never off) answer differently from the explorer.
+#[test]
+fn too_few_observation_errors_are_caught() {
+    let mut caught = 0;
+    for rule in [DangerRule::Paper, DangerRule::Area] {
+        for latency in 0..=1 {
+            for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3)] {
+                let mut p = small(rule, latency, w, wab, rho, 1.2);
+                sensing(&mut p, 0.2, 0.15);
+                let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+                let mut m = uppaal::export(&p, &set).unwrap();
+                for e in &mut m.network.templates[0].edges {
+                    if let Some(sel) = &mut e.select {
+                        sel.2 = 1;
+                    }
+                }
+                let g = uppaal::explore_grid(&m, &Options::default()).unwrap();
+                let e = explore::explore(&p, set, &Options::default()).unwrap();
+                if (g.verdict, g.collision_period, g.min_separation)
+                    != (
+                        e.verdict,
+                        e.counterexample.as_ref().map(|c| c.periods()),
+                        e.min_separation.clone(),
+                    )
+                {
+                    caught += 1;
+                }
+            }
+        }
+    }
+    assert!(caught > 0, "too few errors went unnoticed");
+}
+
+fn occlusion(p: &mut Problem, d_det: f64, sg: f64, sw: f64) {
+    p.sensing = Some(Sensing {
+        gap_noise: Some(sg),
+        speed_noise: Some(sw),
+        first_detection_gap: Some(d_det),
+    });
+}
+
+#[test]
+fn occlusion_agrees_with_the_explorer() {
+    for d_det in [0.25, 0.5, 0.9] {
+        let label = format!("first_detection_gap {d_det}");
+        let v = sweep(|p| occlusion(p, d_det, 0.0, 0.0), &label);
+        assert_eq!(
+            v.len(),
+            2,
+            "{label}: both safe and colliding problems: {v:?}"
+        );
+    }
+    // With noise, b_min and a moving start.
+    let v = sweep(
+        |p| {
+            occlusion(p, 0.5, 0.05, 0.15);
+            p.robot.braking_min = Some(0.3);
+            p.robot.initial_speed = Some(0.2);
+        },
+        "occlusion with noise, b_min, v0",
+    );
+    assert!(!v.is_empty());
+    // A start below d_det has no behaviour at all.
+    let mut p = small(DangerRule::Paper, 1, 0.1, true, 1.0, 1.2);
+    occlusion(&mut p, 1.5, 0.0, 0.0);
+    assert_eq!(agree(&p, "3", "never seen"), ExploreVerdict::Safe);
+}
+
+#[test]
+fn occlusion_is_declared_and_used() {
+    let mut p = small(DangerRule::Paper, 0, 0.1, true, 1.0, 1.2);
+    occlusion(&mut p, 0.5, 0.0, 0.0);
+    let m = export(&p, "3");
+    let c = constants(&m);
+    let d = Exact::from(m.grid.scale.clone());
+    assert_eq!(Exact::from(c["DDET"]) / d, Exact::from(1) / Exact::from(2));
+    let text = declaration(&m);
+    check_lines(&text);
+    for f in [
+        "bool seen = false;",
+        "bool shown() {",
+        "bool lostAfter(int dx) {",
+        "return !seen && gap - dx - w < DDET;",
+    ] {
+        assert!(text.contains(f), "missing {f}:\n{text}");
+    }
+    check_structure(&m.xml);
+    assert!(
+        m.xml.contains("G0 &gt;= DDET"),
+        "a start below DDET is no behaviour"
+    );
+    assert!(m.xml.contains("!lostAfter(VMAX)"));
+    p.robot.latency = 2;
+    let text = declaration(&export(&p, "3"));
+    assert!(
+        text.contains("return !seen && gapAt[L - 1] < DDET;"),
+        "{text}"
+    );
+}
+
+/// A network that lets the hidden obstacle stay hidden for good (no lost behaviours cut)
+/// answers differently from the explorer.
+#[test]
+fn hiding_the_obstacle_for_good_is_caught() {
+    let mut caught = 0;
+    for rule in [DangerRule::Paper, DangerRule::Area] {
+        for latency in 0..=2 {
+            let mut p = small(rule, latency, 0.1, true, 1.0, 1.2);
+            occlusion(&mut p, 0.5, 0.0, 0.0);
+            let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+            let m = uppaal::export(&p, &set).unwrap();
+            let broken = with_decl(&m, |d| {
+                if let Decl::Func(f) = d
+                    && f.name == "lostAfter"
+                {
+                    f.body = vec![uppaal::Stmt::Return(uppaal::Expr::Bool(false))];
+                }
+            });
+            let g = uppaal::explore_grid(&broken, &Options::default()).unwrap();
+            let e = explore::explore(&p, set, &Options::default()).unwrap();
+            if (g.verdict, g.collision_period) != (e.verdict, e.counterexample.map(|c| c.periods()))
+            {
+                caught += 1;
+            }
+        }
+    }
+    assert!(caught > 0, "hiding for good went unnoticed");
+}
+
+/// The settings above over more speeds and latencies, each alone and combined (a larger
+/// sweep: run with `--ignored`).
+#[test]
+#[ignore = "a larger sweep (about 70 s in release)"]
+fn the_real_sensors_settings_agree_with_the_explorer_over_more_speeds() {
+    type Change = fn(&mut Problem);
+    let changes: [(&str, Change); 5] = [
+        ("b_min, v0", |p| {
+            p.robot.braking_min = Some(0.25);
+            p.robot.initial_speed = Some(0.3);
+        }),
+        ("range", |p| {
+            p.environment.initial_gap = Position::Range(0.9, 1.5)
+        }),
+        ("noise", |p| sensing(p, 0.1, 0.1)),
+        ("occlusion", |p| occlusion(p, 0.7, 0.0, 0.0)),
+        ("all but the range", |p| {
+            p.robot.braking_min = Some(0.25);
+            p.robot.initial_speed = Some(0.1);
+            occlusion(p, 0.4, 0.03, 0.12);
+        }),
+    ];
+    for (label, change) in changes {
+        for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
+            for latency in 0..=3 {
+                for (w, wab, rho) in [(0.1, true, 0.6), (0.3, true, 0.3), (0.3, false, 1.0)] {
+                    let mut p = small(rule, latency, w, wab, rho, 1.2);
+                    change(&mut p);
+                    p.validate("uppaal-test").expect("a valid test problem");
+                    let what = format!("{label}: {rule} L={latency} W={w} wab={wab} rho={rho}");
+                    agree(&p, "4", &what);
+                }
+            }
+        }
+    }
+}
+
+/// A network whose danger distance used the plant's b_min instead of the controller's b
+/// would answer differently from the explorer: the comparison catches it.
+#[test]
+fn a_danger_distance_with_the_plants_braking_is_caught() {
+    let mut caught = 0;
+    for rule in [DangerRule::Paper, DangerRule::Kinematic] {
+        for latency in 0..=2 {
+            let mut p = small(rule, latency, 0.1, true, 1.0, 1.2);
+            p.robot.braking_min = Some(0.2);
+            let set = SpeedSet::parse("3", &p.params::<Exact>().W).unwrap();
+            let m = uppaal::export(&p, &set).unwrap();
+            let broken = with_decl(&m, |d| {
+                if let Decl::Func(f) = d
+                    && f.name == "collisionDanger"
+                {
+                    let text = format!("{:?}", f.body);
+                    assert!(text.contains("Name(\"BRK\")"), "{text}");
+                    f.body = rename(&f.body, "BRK", "BRKMIN");
+                }
+            });
+            let g = uppaal::explore_grid(&broken, &Options::default()).unwrap();
+            let e = explore::explore(&p, set, &Options::default()).unwrap();
+            if (g.verdict, g.collision_period, g.min_separation)
+                != (
+                    e.verdict,
+                    e.counterexample.as_ref().map(|c| c.periods()),
+                    e.min_separation.clone(),
+                )
+            {
+                caught += 1;
+            }
+        }
+    }
+    assert!(caught > 0, "the broken danger distance went unnoticed");
+}
+
+/// `stmts` with every use of the name `from` replaced by `to`.
+fn rename(stmts: &[uppaal::Stmt], from: &str, to: &'static str) -> Vec<uppaal::Stmt> {
+    use uppaal::{Expr, Stmt};
+    fn expr(e: &Expr, from: &str, to: &'static str) -> Expr {
+        match e {
+            Expr::Name(x) if *x == from => Expr::Name(to),
+            Expr::Elem(a, i) => Expr::Elem(a, Box::new(expr(i, from, to))),
+            Expr::Call(f, args) => Expr::Call(f, args.iter().map(|a| expr(a, from, to)).collect()),
+            Expr::Not(a) => Expr::Not(Box::new(expr(a, from, to))),
+            Expr::Bin(op, a, b) => Expr::Bin(
+                *op,
+                Box::new(expr(a, from, to)),
+                Box::new(expr(b, from, to)),
+            ),
+            other => other.clone(),
+        }
+    }
+    stmts
+        .iter()
+        .map(|s| match s {
+            Stmt::Return(e) => Stmt::Return(expr(e, from, to)),
+            other => other.clone(),
+        })
+        .collect()
 }
 
 fn with_decl(m: &UppaalModel, change: impl Fn(&mut Decl)) -> UppaalModel {

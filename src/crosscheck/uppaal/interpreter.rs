@@ -110,7 +110,7 @@ fn internal_steps(
 }
 
 /// The binary synchronisations that can fire: a sender's edge (for every value of its
-/// `select`) with each receiver's edge on the same channel; the sender's update runs first,
+/// `select`) with each receiver's edge on the same channel (for every value of its); the sender's update runs first,
 /// then the receiver's.
 fn synchronisations(
     procs: &[Process<'_>],
@@ -136,10 +136,13 @@ fn synchronisations(
                             e.source == locs[ri] && e.sync == Some((chan, Dir::Receive))
                         })
                     {
-                        let sender = (si, se, choice.clone());
-                        if let Some(next) = handshake(m, state, sender, (ri, re, &rp.frame))? {
-                            let ends = se.clock_reset.is_some() || re.clock_reset.is_some();
-                            out.push((next, ends));
+                        // The receiver's edge may select too (the observation error).
+                        for rchoice in choices(rp, re) {
+                            let sender = (si, se, choice.clone());
+                            if let Some(next) = handshake(m, state, sender, (ri, re, &rchoice))? {
+                                let ends = se.clock_reset.is_some() || re.clock_reset.is_some();
+                                out.push((next, ends));
+                            }
                         }
                     }
                 }

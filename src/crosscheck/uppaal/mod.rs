@@ -14,17 +14,21 @@
 //! - time: one model time unit is one control period dt (the obstacle's clock `x`);
 //! - distances (gap, thresholds): metres × D;
 //! - speeds: distance per period, metres/second × dt × D; accelerations: the speed change per
-//!   period, a·dt²·D and b·dt²·D.
+//!   period, a·dt²·D, b·dt²·D (the controller's b, in d_coll) and b_min·dt²·D (the plant's
+//!   braking, `BRKMIN`, written only when b_min < b).
 //!
 //! D is the least common multiple of the denominators of every quantity the model's integer
-//! arithmetic produces: the initial gap, clearance, buffer, v_max·dt, V_a·dt, a·dt²/2, b·dt²/2,
-//! each obstacle speed × dt, the distance of the step in which the robot reaches v_max, and
-//! for every speed the robot can brake from, the distance it and each obstacle speed cover in
-//! the last, partial braking period. With that D every position the model reaches is an
-//! integer and every division in the model is exact — the grid model is the rational model
-//! scaled by D, behaviour for behaviour. The reaction radius is the one number that need not
-//! be on the grid: `observed ≤ ρ` is written `observed ≤ ⌊ρ·D⌋`, which is the same condition
-//! for an integer `observed`. The collision-danger guard o ≤ d_coll(v) is multiplied out
+//! arithmetic produces: the initial gap (every start of a range), σ_g, σ_w·dt, d_det,
+//! clearance, buffer, v_max·dt, v0·dt, V_a·dt, a·dt²/2, b·dt²/2, b_min·dt²/2, each obstacle
+//! speed × dt, the distance of the step in which the robot reaches v_max (none when it
+//! starts at v_max), and for every speed the robot can brake from (v0, then one per period
+//! until v_max), the distance it and each obstacle speed cover in the last, partial braking
+//! period at b_min; with gap noise, D is then multiplied by the least factor that makes every
+//! positive guard threshold a whole unit ("Sensing noise" below). With that D every position
+//! the model reaches is an integer and every division in the model is exact — the grid
+//! model is the rational model scaled by D, behaviour for behaviour. The reaction radius is
+//! the one number that need not be on the grid: `observed ≤ ρ` is written
+//! `observed ≤ ⌊ρ·D⌋`, which is the same condition for an integer `observed`. The collision-danger guard o ≤ d_coll(v) is multiplied out
 //! (`(o − BUFFER)·BRK ≤ v·v + VA·v` for the paper's rule), so it needs no division at all.
 //! When the scaled numbers or the guard's products do not fit UPPAAL's 32-bit `int`, the
 //! export refuses ([`UppaalError::Grid`]) rather than round.
@@ -35,9 +39,27 @@
 //!   period's start (channel `decide`) it evaluates `collisionDanger() || wrongAssumption()`
 //!   on its delayed observation and moves to Brake or stays; at the period's end (channel
 //!   `advance`) it moves by the exact distance of its mode.
+//!
+//!   *Weaker brakes and a moving start* (docs/semantics.md §12). The danger distance keeps
+//!   the controller's `BRK`; the plant brakes at `BRKMIN` = b_min·dt²·D (`brake()`,
+//!   `stop()` and the Brake edges' guards), the worst case of [b_min, b] that every engine
+//!   takes. A robot with `V0` = v0·dt·D > 0 leaves Idle for Accelerate, or for Drive when
+//!   v0 = v_max (`RobotState::initial`); `v = V0` is set by the obstacle's `initialise()`,
+//!   not on the robot's first edge, because the two committed first edges fire in either
+//!   order and a moving robot must never meet the gap's placeholder 0. Neither constant is
+//!   written when the setting is at its default, so those exports are unchanged.
 //! - `Obstacle`: Init → Idle ⇄ Move, the seed's obstacle automaton. Init stores the initial
 //!   gap; from Idle it selects its speed for the period from the set (`decide!`), and Move
 //!   lasts one time unit (`advance!` at x == 1).
+//!
+//!   *A range of initial gaps* is exported as the explorer's finite set of starts
+//!   ([`export_with_starts`], `--starts N`, default 5: N evenly spaced gaps, both ends
+//!   included, taken from [`crate::crosscheck::explore::FiniteModel::with_starts`] itself):
+//!   `GSTART[NSTART]` on the grid (each start's denominator goes into D), and Init's edge
+//!   selects one (`select s : int[0, NSTART - 1]`, `initialise(GSTART[s])`) — the
+//!   environment's first choice, as the explorer's init states are. The gap variables are
+//!   bounded by the largest start, `G0MAX`. Like the explorer, the network covers exactly
+//!   these starts, not the points between.
 //! - Variables: the gap (not absolute positions — only the gap matters, as in the explorer,
 //!   and absolute positions would only multiply UPPAAL's states), the robot's speed, the
 //!   obstacle's speed in the current period (cleared at its end), the last L+1 gaps and
@@ -49,6 +71,74 @@
 //!   by its gap at that instant (< clearance), exactly as [`crate::core::semantics::World::step`].
 //!   The network stops (the obstacle blocks) once the query is violated, which keeps every
 //!   variable in its declared range.
+//!
+//! # Sensing noise: three gaps and two speed readings realise every error's outcome
+//!
+//! With `[sensing] gap_noise` σ_g or `speed_noise` σ_w (docs/semantics.md §12) each
+//! observation is off by an error the environment picks within ±σ. The grid takes
+//! `SG` = σ_g·D and `SW` = σ_w·dt·D (their denominators go into D). The history keeps, per
+//! period, whether its speed can be measured above V_a (`fastAt`: w + SW > VA) and at or
+//! below it (`slowAt`: w − SW ≤ VA; the speed before the first period is 0 exactly, so
+//! `slowAt` starts true and `fastAt` false). The robot's decide edges select the error
+//! `e : int[0, 5]`, and every guard reads the observation `e` picks: `observedGap(e)` is,
+//! for e mod 3 = 0, 1, 2, the lowest gap the noise allows, l = g − SG, the highest,
+//! h = g + SG, or the lowest positive one, max(l, min(1, h)); `observedFast(e)` is "fast"
+//! for e ≥ 3 if some error shows the speed above V_a, and "fast" whenever none shows it at or
+//! below (one of the two always can). The selected index lives only on the edge: nothing
+//! of it is stored.
+//!
+//! *Claim.* For each robot speed v and true observation (g, w), the guard outcomes these six
+//! errors give are exactly the outcomes some real error in [−σ_g, σ_g] × [−σ_w, σ_w] gives —
+//! the explorer's `(fire, quiet)` (`explore::observe::choices`) — so the network's runs are
+//! the explorer's runs, and its reachable (gap, speed, history) states the same.
+//!
+//! *Proof.* The guard fires on an observed gap o and speed s iff 0 < o ≤ T, with T = ρ if s
+//! is seen above V_a (and the wrong-assumption guard is on) and T = θ(v) = min(ρ, d_coll(v))
+//! otherwise; whether s is seen above V_a depends only on the speed error, and both bits
+//! the noise allows are among the selected ones. *Fire:* some real o ∈ [l, h] lies in
+//! (0, T] iff h > 0, l ≤ T and T > 0. On the grid g, SG — hence l, h — are integers, and
+//! the network's comparisons are exact for integer o (o ≤ ⌊ρ·D⌋ ⟺ o ≤ ρ·D, and
+//! d_coll is multiplied out). The least positive integer in [l, h], max(l, min(1, h)) when
+//! h ≥ 1, fires iff some integer of [l, h] does (the firing set is an interval starting
+//! above 0), and some integer of [l, h] lies in (0, T] iff the real condition holds
+//! provided every positive threshold T is at least one unit: if l ≥ 1 both say l ≤ T; if
+//! l ≤ 0 both say h ≥ 1 and T ≥ 1 (⟺ T > 0). So the grid is refined (D multiplied by
+//! ⌈1/(T·D)⌉) until ρ and every positive d_coll(v) over the drive profile are at least one
+//! unit — d_coll is nondecreasing in v, and the robot only ever decides at profile speeds.
+//! *Quiet:* o ≤ 0, or o > T' (T' = θ(v) if s can be seen at or below V_a, else ρ); some real
+//! o ∈ [l, h] does this iff l ≤ 0 or h > T', and for the integer h, h > T' ⟺ h > ⌊T'⌋, so
+//! l and h (with the slow bit if allowed) realise it. ∎
+//!
+//! Without noise, nothing of this is written (no `SG`, `SW`, `slowAt`, select or
+//! parameter), so those exports are unchanged.
+//!
+//! # Occlusion: the first sighting as a choice, lost behaviours blocked
+//!
+//! With `first_detection_gap` d_det (`DDET` = d_det·D on the grid) the obstacle may stay
+//! hidden for any prefix of the observations and is first seen at an observation of a true
+//! gap ≥ d_det (docs/semantics.md §12). The network keeps one bit, `seen`. In Accelerate and
+//! Drive the robot's decide edges are: *hidden* (`!seen`: nothing is observed, no guard
+//! fires), and keep / brake guarded by `shown() && …`, where `shown()` is `seen`, or an
+//! observation exists whose true gap `gapAt[L]` is ≥ `DDET` (the environment shows the
+//! obstacle now); both set `seen`. These are the explorer's choices at a state: stay
+//! hidden, or (where its `may_show` holds) be first seen, then the guard on that
+//! observation; once seen, the guard as without occlusion.
+//!
+//! The explorer leaves out *lost* states — hidden, and no observation to come can show a true
+//! gap ≥ d_det — and the steps into them: no behaviour goes through them (docs of
+//! `explore`). Gaps never grow, so the first observation to come decides it: after a period
+//! that is the one made at the next decision, of `gapAt[L − 1]` (L ≥ 1; the start while
+//! fewer than L periods have passed, since the history is initialised with it) or of the
+//! gap at the period's end, `gap − dx − w` (L = 0). `lostAfter(dx)` tests exactly that, and
+//! the robot's advance edges in Accelerate and Drive (the only modes a hidden obstacle
+//! leaves the robot in) are guarded by `!lostAfter(dx)` with their own travel dx, so the
+//! network never enters a lost state: the step into it is not taken, and a violation there
+//! is never reached. Likewise Init's edge takes only starts ≥ `DDET` (a start below it is
+//! lost from the outset). A state the network does reach is on a behaviour of the explorer
+//! (its continuation showing the obstacle at the next admissible observation), so the
+//! reachable violations, rest gaps and shortest collision periods are the explorer's.
+//! Blocking leaves the network in Move with no `advance` partner (a time-lock, not a
+//! violation): UPPAAL's `A[]` query is unaffected, and the deadlock is not a behaviour.
 //!
 //! # Scenes: the seed's whole network
 //!
@@ -157,8 +247,8 @@ pub use syntax::{
 use crate::core::model::Problem;
 use crate::core::num::Exact;
 use crate::core::scene::Scene;
-use crate::crosscheck::explore::SpeedSet;
 use crate::crosscheck::explore::scene::SceneSpeeds;
+use crate::crosscheck::explore::{DEFAULT_STARTS, SpeedSet};
 
 /// Most drive-profile speeds (control periods to reach v_max, plus one) the export enumerates.
 pub const MAX_PROFILE: usize = 100_000;
@@ -195,9 +285,20 @@ pub struct UppaalModel {
     pub query: String,
 }
 
-/// Exports a (validated) problem with obstacle speeds from `speeds`.
+/// Exports a (validated) problem with obstacle speeds from `speeds` (and for a range of
+/// initial gaps, the explorer's default starts).
 pub fn export(problem: &Problem, speeds: &SpeedSet) -> Result<UppaalModel, UppaalError> {
-    let grid = Grid::new(problem, speeds)?;
+    export_with_starts(problem, speeds, DEFAULT_STARTS)
+}
+
+/// As [`export`], with `starts` evenly spaced starts in a range of initial gaps, both ends
+/// included: the set `explore --starts` explores (a single initial gap is its only start).
+pub fn export_with_starts(
+    problem: &Problem,
+    speeds: &SpeedSet,
+    starts: usize,
+) -> Result<UppaalModel, UppaalError> {
+    let grid = Grid::with_starts(problem, speeds, starts)?;
     let network = network::network(problem, &grid, speeds);
     let xml = xml_text(&network);
     let query = query_text(&network);
