@@ -292,6 +292,7 @@ fn summary(
         for (i, speeds) in path.speeds.iter().enumerate() {
             *s += &format!("    {}: {}\n", scene.obstacles[i].name, speeds_rle(speeds));
         }
+        *s += &observations(scene, path);
     };
     if let Some(c) = &result.counterexample {
         let hit: Vec<String> = c
@@ -337,6 +338,54 @@ fn summary(
     s
 }
 
+/// Observation errors listed per obstacle in the text summary.
+const SHOWN_ERRORS: usize = 4;
+
+/// What the environment showed on a path with noise or occlusion: each obstacle's first
+/// sighting and the observation errors it chose (nothing for exact observations).
+fn observations(scene: &Scene, path: &ScenePath) -> String {
+    if path.plan.is_exact() {
+        return String::new();
+    }
+    let dt = scene.robot.control_period;
+    let mut s = String::from("    observations (the environment's choices):\n");
+    for (i, o) in scene.obstacles.iter().enumerate() {
+        let first = path.plan.hidden_until[i];
+        let all = path.plan.errors.range((i, 0)..(i + 1, 0));
+        let count = all.clone().count();
+        let mut errors: Vec<String> = all
+            .take(SHOWN_ERRORS)
+            .map(|(&(_, k), (g, w))| {
+                format!(
+                    "t = {} s: gap {:+} m, speed {:+} m/s",
+                    value(k as f64 * dt),
+                    g.to_f64().value(),
+                    w.to_f64().value()
+                )
+            })
+            .collect();
+        if count > SHOWN_ERRORS {
+            errors.push(format!(
+                "… {} more (--json lists them)",
+                count - SHOWN_ERRORS
+            ));
+        }
+        let sighting = if first == 0 {
+            "seen from the start".to_string()
+        } else if first >= path.periods() {
+            "never shown".to_string()
+        } else {
+            format!("first shown at t = {} s", value(first as f64 * dt))
+        };
+        s += &format!("    {}: {sighting}", o.name);
+        if !errors.is_empty() {
+            s += &format!("; errors {}", errors.join("; "));
+        }
+        s += "\n";
+    }
+    s
+}
+
 fn number(x: Option<&Exact>) -> (Value, Value) {
     match x {
         Some(x) => (json!(x.to_f64().value()), json!(show_exact(x))),
@@ -346,7 +395,7 @@ fn number(x: Option<&Exact>) -> (Value, Value) {
 
 fn path_json(path: &ScenePath) -> Value {
     let outcome = &path.replay.run.outcome;
-    json!({
+    let mut v = json!({
         "periods": path.periods(),
         "starts": path.starts.iter().map(|x| x.to_f64().value()).collect::<Vec<_>>(),
         "starts_exact": path.starts.iter().map(show_exact).collect::<Vec<_>>(),
@@ -360,7 +409,24 @@ fn path_json(path: &ScenePath) -> Value {
         "brake": outcome.brake.map(|(step, reason)| json!({"step": step, "reason": reason})),
         "lane_changes": outcome.lane_changes,
         "steps": path.replay.trace(),
-    })
+    });
+    // Only with noise or occlusion, so that exact observations print as before.
+    if !path.plan.is_exact() {
+        v["first_shown_step"] = json!(path.plan.hidden_until);
+        v["observation_errors"] = path
+            .plan
+            .errors
+            .iter()
+            .map(|(&(i, k), (g, w))| {
+                json!({
+                    "obstacle": i, "step": k,
+                    "gap": g.to_f64().value(), "speed": w.to_f64().value(),
+                    "gap_exact": show_exact(g), "speed_exact": show_exact(w),
+                })
+            })
+            .collect();
+    }
+    v
 }
 
 fn to_json(scene: &Scene, result: &SceneExploration, options: &Options) -> Value {

@@ -5,13 +5,21 @@
 //!   problem read as a scene, the search gives its verdict and s*;
 //! - noise never helps: s* never rises with σ, and an empty `[sensing]` is today's answer;
 //! - every search certificate checks, its witness replaying with the errors and the first
-//!   sightings it states, and a witness edited to break a premise is rejected.
+//!   sightings it states, and a witness edited to break a premise is rejected;
+//! - the scene explorer with noise and occlusion as finite choices: explorer collision ⇒
+//!   refuted, every explored separation ≥ s*, every path it reports keeps the premises.
 
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use safereach::analysis::{Verdict, analyse};
 use safereach::core::model::{DangerRule, Problem, Sensing};
-use safereach::core::scene::Scene;
+use safereach::core::num::Exact;
+use safereach::core::scene::{Scene, simulate};
+use safereach::crosscheck::explore::scene::{SceneExploration, SceneSpeeds, explore_scene};
+use safereach::crosscheck::explore::{ExploreVerdict, Options};
 use safereach::proof::search_certificate::{SearchCertificate, certify_by_search};
 use safereach::proof::search_check::check_search;
+use safereach::proof::search_observations::premises_hold;
 
 use crate::noise::small_sensing;
 
@@ -267,4 +275,225 @@ fn the_lane_change_scene_is_decided_with_occlusion_inside_the_area() {
     let (e, o) = (certify(&exact), certify(&occluded));
     assert_eq!(o.verdict, Verdict::Certified);
     assert!(star(&o).unwrap() <= star(&e).unwrap());
+}
+
+// ---------------------------------------------------------------------------------------------
+// The scene explorer with noise and occlusion as finite choices
+// ---------------------------------------------------------------------------------------------
+
+/// A small scene of a coarse robot (v_max in one 0.5 s period) with a walker in its lane,
+/// something parked or walking in the next lane, lane changes on or off and `[sensing]`.
+fn sensing_scene(rng: &mut ChaCha8Rng) -> Scene {
+    let lc = rng.random_range(0..2) == 1;
+    let sensing = [
+        "gap_noise = 0.05\n",
+        "gap_noise = 0.03\nspeed_noise = 0.1\n",
+        "first_detection_gap = 0.7\n",
+        "first_detection_gap = 1.1\n",
+        "gap_noise = 0.04\nfirst_detection_gap = 0.9\n",
+    ][rng.random_range(0..5)];
+    let walker = f64::from(rng.random_range(24..=60u32)) / 20.0;
+    let w = [0.0, 0.1, 0.2, 0.3][rng.random_range(0..4)];
+    let other = f64::from(rng.random_range(16..=50u32)) / 20.0;
+    let (other_w, other_static) = if rng.random_range(0..2) == 0 {
+        (0.0, true)
+    } else {
+        (0.2, false)
+    };
+    let text = format!(
+        r#"name = "sensing-explore"
+[robot]
+max_speed = 0.5
+acceleration = 0.5
+braking = 0.5
+control_period = 0.5
+latency = {latency}
+clearance = 0.0
+[controller]
+assumed_obstacle_speed = 0.2
+reaction_radius = {rho}
+danger_rule = "{rule}"
+buffer = 0.1
+wrong_assumption_brake = {wab}
+lane_change = {lc}
+lane_change_periods = 1
+lane_change_rear_gap = 0.3
+[scene]
+lanes = [0, 1]
+[[obstacle]]
+name = "walker"
+lane = 0
+position = {walker}
+max_speed = {w}
+[[obstacle]]
+name = "other"
+lane = 1
+position = {other}
+max_speed = {other_w}
+static = {other_static}
+[sensing]
+{sensing}"#,
+        latency = rng.random_range(0..=1),
+        rho = [1.2, 2.0][rng.random_range(0..2)],
+        rule = ["paper", "kinematic", "area"][rng.random_range(0..3)],
+        wab = rng.random_range(0..2) == 1,
+    );
+    Scene::from_toml_str(&text, "test").unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// Every path the explorer reports, replayed from scratch with the observations it states,
+/// keeps the sensing premises and gives what the explorer says of it.
+fn check_sensing_paths(scene: &Scene, e: &SceneExploration) -> (bool, bool) {
+    let p = scene.params::<Exact>();
+    let (mut hides, mut errs) = (false, false);
+    let paths = e.counterexample.iter().map(|c| (c, None)).chain(
+        e.obstacles.iter().enumerate().filter_map(|(i, o)| {
+            (!o.unbounded).then_some(o.closest.as_ref().map(|c| (c, Some(i))))?
+        }),
+    );
+    for (path, obstacle) in paths {
+        let r = simulate::replay_observing(
+            &p,
+            &path.speeds,
+            &path.plan,
+            &path.starts,
+            path.periods(),
+            obstacle.is_none(),
+        );
+        premises_hold(&p, &path.plan, &r.run)
+            .unwrap_or_else(|m| panic!("{}: {m}", scene.to_toml_string()));
+        match obstacle {
+            None => assert!(r.collided() && r.periods() == path.periods()),
+            Some(i) => assert_eq!(r.separations()[i], e.obstacles[i].min_separation),
+        }
+        hides |= path.plan.hidden_until.iter().any(|&h| h > 1);
+        errs |= !path.plan.errors.is_empty();
+    }
+    (hides, errs)
+}
+
+/// The scene explorer, with noise (errors −σ, 0, +σ) and occlusion (hidden or first shown
+/// at every observation that may show it) as the environment's choices, against the run
+/// search on 60 small scenes: explorer collision ⇒ refuted; every explored separation
+/// ≥ s*; every reported path keeps the premises when replayed. The explorer's behaviours
+/// are a finite subset of the semantics', so these laws fail only if the search misses a
+/// behaviour (or the explorer invents one).
+#[test]
+fn the_scene_explorer_under_noise_and_occlusion_agrees_with_the_search() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let (mut collisions, mut safe, mut tight, mut hides, mut errs) = (0, 0, 0, 0, 0);
+    for _ in 0..60 {
+        let scene = sensing_scene(&mut rng);
+        let name = scene.to_toml_string();
+        let cert = certify(&scene);
+        let p = scene.params::<Exact>();
+        let e = explore_scene(
+            &scene,
+            SceneSpeeds::extremes(&p),
+            &Options {
+                max_states: 20_000,
+                ..Options::default()
+            },
+        )
+        .expect("explored");
+        if e.verdict == ExploreVerdict::Collision {
+            assert_eq!(cert.verdict, Verdict::Refuted, "{name}");
+            collisions += 1;
+        }
+        safe += usize::from(e.verdict == ExploreVerdict::Safe);
+        if e.never_stops() {
+            assert!(
+                cert.never_stops,
+                "{name}: the explorer drives through for ever"
+            );
+        } else if let (Some(m), Some(s)) = (e.min_separation_f64(), star(&cert)) {
+            assert!(m >= s - 1e-9, "{name}: explorer {m} below s* {s}");
+            tight += usize::from(e.complete && (m - s).abs() <= 1e-9);
+        }
+        let (h, r) = check_sensing_paths(&scene, &e);
+        hides += usize::from(h);
+        errs += usize::from(r);
+    }
+    // Not trivial: both verdicts, paths that hide or err, and explorations that reach s*.
+    assert!(
+        collisions >= 5 && safe >= 5,
+        "{collisions} collisions, {safe} safe"
+    );
+    assert!(
+        hides >= 5 && errs >= 5,
+        "{hides} hiding paths, {errs} erring paths"
+    );
+    assert!(tight >= 10, "only {tight} explorations reach s*");
+}
+
+/// The shipped seed-lanes scene with an obstacle first seen as late as 0.8 m: the explorer
+/// finds a closer approach than without occlusion (the parked obstacle shown only once the
+/// robot has swerved towards it), and exactly the search's s*.
+#[test]
+fn occlusion_in_seed_lanes_is_explored_to_the_searchs_answer() {
+    let text = std::fs::read_to_string(crate::common::paths::problem_file("seed-lanes.toml"))
+        .expect("the shipped scene");
+    let explore = |extra: &str| {
+        let scene = Scene::from_toml_str(&format!("{text}{extra}"), "test").expect("reads");
+        let p = scene.params::<Exact>();
+        let e = explore_scene(&scene, SceneSpeeds::extremes(&p), &Options::default())
+            .expect("explored");
+        assert!(e.complete, "explored completely");
+        (scene, e)
+    };
+    let (_, plain) = explore("");
+    let (scene, hidden) = explore("\n[sensing]\nfirst_detection_gap = 0.8\n");
+    let cert = certify(&scene);
+    let m = hidden.min_separation_f64().expect("a separation");
+    assert!(m < plain.min_separation_f64().unwrap() - 0.01);
+    assert!(
+        (m - star(&cert).unwrap()).abs() <= 1e-9,
+        "explorer {m} vs search {:?}",
+        star(&cert)
+    );
+    let (hides, _) = check_sensing_paths(&scene, &hidden);
+    assert!(hides, "the closest approach hides an obstacle");
+}
+
+/// `safereach explore` on a scene file with `[sensing]`: a collision found by hiding an
+/// obstacle exits 1 and states, in text and JSON, when each obstacle was first shown — the
+/// library's path.
+#[test]
+fn cli_explores_a_scene_with_sensing() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let (scene, plan) = (0..60)
+        .find_map(|_| {
+            let scene = sensing_scene(&mut rng);
+            let p = scene.params::<Exact>();
+            let e = explore_scene(&scene, SceneSpeeds::extremes(&p), &Options::default()).ok()?;
+            let c = e.counterexample?;
+            c.plan
+                .hidden_until
+                .iter()
+                .any(|&h| h > 1)
+                .then_some((scene, c.plan))
+        })
+        .expect("a collision that hides an obstacle");
+    let dir = crate::common::tmp();
+    let path = dir.path().join("hidden.toml");
+    std::fs::write(&path, scene.to_toml_string()).unwrap();
+    let run = |json: bool| {
+        let mut cmd = crate::common::cli::safereach(dir.path());
+        cmd.arg("explore").arg(&path);
+        if json {
+            cmd.arg("--json");
+        }
+        let out = cmd.assert().code(1).get_output().clone();
+        crate::common::cli::stdout(&out)
+    };
+    let text = run(false);
+    assert!(
+        text.contains("observations (the environment's choices):"),
+        "{text}"
+    );
+    assert!(text.contains("first shown at t = "), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&run(true)).unwrap();
+    let shown: Vec<usize> =
+        serde_json::from_value(v["path"]["first_shown_step"].clone()).expect("first_shown_step");
+    assert_eq!(shown, plan.hidden_until);
 }

@@ -265,6 +265,40 @@ impl<N: Scalar> SceneWorld<N> {
         })
     }
 
+    /// What the robot sees of each obstacle at the next step start when the environment
+    /// shows `shown(i, truth)` (see [`SceneWorld::step_seeing`]), the sensing range applied.
+    fn seen_with(
+        &self,
+        shown: &mut impl FnMut(usize, Observation<N>) -> Option<Observation<N>>,
+    ) -> Vec<Option<Observation<N>>> {
+        (0..self.tracks.len())
+            .map(|i| {
+                let truth = self.observation_if_shown(i)?;
+                self.within_range(shown(i, truth)?)
+            })
+            .collect()
+    }
+
+    /// The controller's command at the next step start if the environment shows
+    /// `shown(i, truth)` (as [`SceneWorld::step_seeing`] would), without stepping: None when
+    /// the robot neither accelerates nor drives (no guard is evaluated). An explorer
+    /// groups the environment's observation choices by it.
+    pub fn command_seeing(
+        &self,
+        mut shown: impl FnMut(usize, Observation<N>) -> Option<Observation<N>>,
+    ) -> Option<Command> {
+        if !matches!(self.robot.mode, Mode::Accelerate | Mode::Drive) {
+            return None;
+        }
+        let seen = self.seen_with(&mut shown);
+        Some(scene_guard(
+            &self.params,
+            &self.robot,
+            &self.lateral(),
+            &seen,
+        ))
+    }
+
     /// Advance one control period with obstacle i moving at `speeds[i]` (the caller keeps
     /// 0 ≤ `speeds[i]` ≤ W_i; nothing here checks it).
     ///
@@ -291,12 +325,7 @@ impl<N: Scalar> SceneWorld<N> {
         assert_eq!(speeds.len(), self.tracks.len(), "one speed per obstacle");
         let k = self.k;
         let mut lateral = self.lateral();
-        let seen: Vec<Option<Observation<N>>> = (0..self.tracks.len())
-            .map(|i| {
-                let truth = self.observation_if_shown(i)?;
-                self.within_range(shown(i, truth)?)
-            })
-            .collect();
+        let seen = self.seen_with(&mut shown);
         let mut brake = None;
         let mut lane_change = None;
         if matches!(self.robot.mode, Mode::Accelerate | Mode::Drive) {

@@ -77,6 +77,18 @@ struct LiveTrack {
     fast: Box<[bool]>,
     /// The side of the current occupancy interval (true: ahead).
     side: Option<bool>,
+    /// With noise or occlusion (the `fast` bits are then empty).
+    sensed: Option<Sensed>,
+}
+
+/// What the environment's observation choices read of one obstacle.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct Sensed {
+    /// For each remembered speed: whether some error shows it above V_a, and whether some
+    /// shows it at or below.
+    shows: Box<[(bool, bool)]>,
+    /// The obstacle is still hidden.
+    hidden: bool,
 }
 
 /// A remembered gap as every later reader of it sees it.
@@ -106,8 +118,14 @@ impl SceneKey {
     }
 
     /// The key of a running world; `keep[i]`: obstacle i can still matter while guards are
-    /// evaluated (the module docs say which can be left out).
-    pub(super) fn running(world: &SceneWorld<Rational>, keep: &[bool]) -> SceneKey {
+    /// evaluated (the module docs say which can be left out). `hidden`: with noise or
+    /// occlusion, which obstacles are still hidden; the history is then kept exactly (an
+    /// error can move an observation across any threshold within σ of it).
+    pub(super) fn running(
+        world: &SceneWorld<Rational>,
+        keep: &[bool],
+        hidden: Option<&[bool]>,
+    ) -> SceneKey {
         let p = world.params();
         let l = p.robot.L;
         let lateral = world.lateral();
@@ -132,8 +150,24 @@ impl SceneKey {
             });
         }
         let zero = Rational::zero();
+        // With noise every threshold moves by σ_g, and "far" must also settle d_det (a
+        // hidden obstacle's next observation is compared with it).
+        let sigma = &p.robot.sigma_g;
+        let far = match &p.robot.d_det {
+            Some(d) if *d > p.robot.rho.clone() + sigma.clone() => d.clone(),
+            _ => p.robot.rho.clone() + sigma.clone(),
+        };
+        let past = -sigma.clone();
         let seen = |gap: &Rational| {
-            if *gap > p.robot.rho {
+            if hidden.is_some() {
+                if *gap > far {
+                    Seen::Far
+                } else if p.lane_change.is_none() && *gap <= past {
+                    Seen::Passed
+                } else {
+                    Seen::Exactly(Num::of(gap))
+                }
+            } else if *gap > p.robot.rho {
                 Seen::Far
             } else if p.lane_change.is_none() && *gap <= zero {
                 Seen::Passed
@@ -141,8 +175,12 @@ impl SceneKey {
                 Seen::Exactly(Num::of(gap))
             }
         };
-        // A gap a guard may find relevant: in (0, ρ].
+        // A gap a guard may find relevant: in (0, ρ] (as shown: within σ_g of it).
         let in_area = |gap: &Rational| *gap > zero && *gap <= p.robot.rho;
+        let may_be_in_area = |gap: &Rational| {
+            gap.clone() + sigma.clone() > zero && gap.clone() - sigma.clone() <= p.robot.rho
+        };
+        let sigma_w = &p.robot.sigma_w;
         let tracks = (0..p.obstacles.len())
             .filter(|&i| keep[i])
             .map(|i| {
@@ -151,13 +189,33 @@ impl SceneKey {
                 // The speed over period p is observed with the gap at the start of p + 1
                 // (the next remembered gap, or the current one), and read only when that
                 // gap is relevant.
+                let partner = |j: usize| gaps.get(j + 1).unwrap_or_else(|| world.gap(i));
+                // A speed never read can only look slow.
+                let sensed = hidden.map(|h| {
+                    let shows = speeds
+                        .iter()
+                        .enumerate()
+                        .map(|(j, w)| {
+                            if reads_speed && may_be_in_area(partner(j)) {
+                                (
+                                    w.clone() + sigma_w.clone() > p.robot.V_a,
+                                    w.clone() - sigma_w.clone() <= p.robot.V_a,
+                                )
+                            } else {
+                                (false, true)
+                            }
+                        })
+                        .collect();
+                    Sensed {
+                        shows,
+                        hidden: h[i],
+                    }
+                });
                 let fast = speeds
                     .iter()
                     .enumerate()
-                    .map(|(j, w)| {
-                        let partner = gaps.get(j + 1).unwrap_or_else(|| world.gap(i));
-                        reads_speed && in_area(partner) && *w > p.robot.V_a
-                    })
+                    .filter(|_| sensed.is_none())
+                    .map(|(j, w)| reads_speed && in_area(partner(j)) && *w > p.robot.V_a)
                     .collect();
                 LiveTrack {
                     gap: Num::of(world.gap(i)),
@@ -168,6 +226,7 @@ impl SceneKey {
                         .collect(),
                     fast,
                     side: side(i),
+                    sensed,
                 }
             })
             .collect();

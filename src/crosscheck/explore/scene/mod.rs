@@ -15,7 +15,8 @@
 //!   finite set ⊆ [0, W_i] ([`SceneSpeeds`]; by default {0, W_i}). The joint actions of a
 //!   state are listed in a fixed order (obstacle 0's choice varying slowest, each set
 //!   ascending), so the search, its state count and its counterexample are deterministic.
-//! - **Next state**: [`SceneWorld::step`] with those speeds.
+//! - **Next state**: [`SceneWorld::step`] with those speeds (with noise or occlusion,
+//!   [`SceneWorld::step_seeing`] with the chosen looks: "Noise and occlusion" below).
 //! - **Property** (`always`): no period has an obstacle's collision flag set (the robot
 //!   moving in its lane with separation ≤ clearance, §1.1 "Safety").
 //! - **Counterexample**: a shortest path (fewest periods) to a colliding period, replayed
@@ -84,6 +85,39 @@
 //! the keys; its separation is None (the robot never moves in its lane). With lane changes
 //! on every obstacle matters.
 //!
+//! # Noise and occlusion
+//!
+//! With `[sensing]` the environment also chooses what the robot is shown (docs/semantics.md
+//! §12, per obstacle and per observation), as finite choices:
+//!
+//! - **Errors**: each observation of an obstacle that matters is shown with a gap error in
+//!   {0, −σ_g, +σ_g} and a speed error in {0, −σ_w, +σ_w} (none on the speed read before any
+//!   period has ended, which is the initial 0). These are a finite subset of the errors the
+//!   semantics allows, as the speed sets are of the speeds: what the explorer finds is a
+//!   real behaviour, and it may miss behaviours that need an error strictly inside ±σ.
+//! - **Occlusion**: every obstacle starts hidden; at each observation while the robot
+//!   accelerates or drives, a hidden obstacle stays hidden or, where the true observed gap
+//!   is ≥ d_det, is first shown. A hidden state whose next observation already shows a true
+//!   gap below d_det can never show it (gaps never grow): it is *lost*, and neither it nor
+//!   the step into it is watched. Once the robot brakes no guard reads an observation
+//!   again, so the hidden marks are dropped (the behaviour shows the obstacle at its next
+//!   observation, which is ≥ d_det since the state is not lost).
+//! - **Grouping**: an observation is read by its own step's guard only, so the combinations
+//!   of looks of a state are grouped by the command they make the guard give and by which
+//!   obstacles stay hidden; one combination per group is explored (the exact observation
+//!   first, so reported paths err only where an error changed the guard).
+//! - **Far observations**: an observation that every error shows beyond ρ is read by no
+//!   guard and no free-lane test, so it is shown exactly, and a hidden obstacle stays hidden
+//!   through it when the following observation (known for L ≥ 1) still shows a true gap
+//!   ≥ d_det — showing it then instead changes no step.
+//!
+//! The keys then keep what the choices read: remembered gaps beyond max(ρ + σ_g, d_det) as
+//! "far" (every shown value is beyond ρ, and a hidden obstacle may still be shown there),
+//! ≤ −σ_g as "passed" without lane changes, others exactly; for each remembered speed
+//! whether some error shows it above V_a and whether some shows it at or below; and the
+//! hidden mark. Every reported path carries its observations ([`ScenePath::plan`]: first
+//! sightings and errors) and is replayed from scratch with them.
+//!
 //! # Where things are
 //!
 //! - `speeds`: each obstacle's finite speed set and how `--speeds` is read for a scene;
@@ -93,6 +127,7 @@
 //!
 //! [`SceneWorld::step`]: crate::core::scene::SceneWorld::step
 //! [`SceneWorld::new`]: crate::core::scene::SceneWorld::new
+//! [`SceneWorld::step_seeing`]: crate::core::scene::SceneWorld::step_seeing
 //! [`SceneWorld::settled`]: crate::core::scene::SceneWorld::settled
 //! [`ObstacleStep::safety`]: crate::core::scene::ObstacleStep::safety
 //! [`Rational`]: crate::core::rational::Rational
@@ -106,7 +141,10 @@ mod search;
 mod speeds;
 
 pub use key::SceneKey;
-pub use model::{MAX_JOINT_ACTIONS, SceneModel, SceneState, SceneStatus, SceneTransition};
+pub use model::{
+    Look, MAX_JOINT_ACTIONS, MAX_LOOK_COMBINATIONS, SceneModel, SceneMoves, SceneState,
+    SceneStatus, SceneTransition,
+};
 pub use search::{
     ObstacleExploration, SceneExploration, ScenePath, explore_scene, explore_scene_model,
 };

@@ -1,30 +1,117 @@
 //! The finite model of a scene: its init states (one per combination of obstacle starts),
-//! its joint actions (one speed per obstacle from each obstacle's set), its transitions
-//! through [`SceneWorld::step`], when a state ends, and its exact keys.
+//! its joint actions (what the robot is shown of each obstacle, then one speed per obstacle
+//! from each obstacle's set), its transitions through [`SceneWorld::step_seeing`], when a
+//! state ends, and its exact keys.
 
 use super::key::{Ending, SceneKey};
 use super::speeds::SceneSpeeds;
 use crate::core::num::{Exact, Scalar};
 use crate::core::rational::Rational;
+use crate::core::scene::guards::Command;
 use crate::core::scene::safety::Side;
 use crate::core::scene::simulate::horizon;
 use crate::core::scene::{SceneParams, SceneStepRecord, SceneWorld};
-use crate::core::semantics::Mode;
+use crate::core::semantics::{Mode, Observation};
 use crate::crosscheck::explore::ExploreError;
 
 /// Most joint actions (combinations of one speed per obstacle) a state may have.
 pub const MAX_JOINT_ACTIONS: usize = 1 << 16;
 
-/// A state of a scene's finite model: the world as [`SceneWorld::step`] runs it.
+/// Most combinations of observation choices (one look per obstacle) a state may have.
+pub const MAX_LOOK_COMBINATIONS: usize = 1 << 16;
+
+/// Most combinations of looks and speeds a state may have.
+const MAX_MOVES: usize = 1 << 20;
+
+/// A state of a scene's finite model: the world as [`SceneWorld::step_seeing`] runs it,
+/// and which obstacles are still hidden (occlusion).
 #[derive(Clone, Debug)]
 pub struct SceneState {
     world: SceneWorld<Rational>,
+    /// `hidden[i]`: obstacle i has not been shown yet (always false without occlusion, and
+    /// once the robot no longer accelerates or drives: no guard reads it any more).
+    hidden: Vec<bool>,
 }
 
 impl SceneState {
     /// The world in this state.
     pub fn world(&self) -> &SceneWorld<Rational> {
         &self.world
+    }
+
+    /// Whether obstacle i is still hidden.
+    pub fn hidden(&self, i: usize) -> bool {
+        self.hidden[i]
+    }
+}
+
+/// What the environment shows the robot of one obstacle at one step start.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Look {
+    /// Nothing: the obstacle is still hidden (occlusion).
+    Hidden,
+    /// Its observation, with these errors added to the true gap and speed.
+    Shown {
+        /// Added to the true gap (within ±σ_g).
+        gap_error: Rational,
+        /// Added to the true speed (within ±σ_w).
+        speed_error: Rational,
+    },
+}
+
+impl Look {
+    /// The exact observation.
+    fn exact() -> Look {
+        Look::Shown {
+            gap_error: Rational::zero(),
+            speed_error: Rational::zero(),
+        }
+    }
+
+    /// What the robot is shown of a true observation `truth`.
+    fn show(&self, truth: Observation<Rational>) -> Option<Observation<Rational>> {
+        match self {
+            Look::Hidden => None,
+            Look::Shown {
+                gap_error,
+                speed_error,
+            } => Some(Observation {
+                gap: truth.gap + gap_error.clone(),
+                speed: truth.speed + speed_error.clone(),
+            }),
+        }
+    }
+}
+
+/// The joint actions of one state: the distinct outcomes of the environment's observation
+/// choices (each with one combination of looks that realises it), times the speed
+/// combinations. Action a is outcome a / speeds, speed combination a % speeds.
+#[derive(Clone, Debug)]
+pub struct SceneMoves {
+    /// One combination of looks (one per obstacle) per distinct outcome, in a fixed order.
+    outcomes: Vec<Vec<Look>>,
+    speeds: usize,
+}
+
+impl SceneMoves {
+    /// Number of joint actions.
+    pub fn len(&self) -> usize {
+        self.outcomes.len() * self.speeds
+    }
+
+    /// Whether there is none (never: every state has at least one).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The looks of joint action `action`.
+    pub fn looks(&self, action: usize) -> &[Look] {
+        &self.outcomes[action / self.speeds]
+    }
+
+    /// The speed combination of joint action `action` (see [`SceneModel::choices`]).
+    pub fn speed_action(&self, action: usize) -> usize {
+        action % self.speeds
     }
 }
 
@@ -67,19 +154,25 @@ pub struct SceneModel {
     /// Obstacle i's starts: its position, or both ends of its range.
     starts: Vec<Vec<Exact>>,
     horizon: usize,
+    /// The gap errors the environment chooses among: {0, −σ_g, σ_g} ({0} without noise).
+    gap_errors: Vec<Rational>,
+    /// The speed errors: {0, −σ_w, σ_w}.
+    speed_errors: Vec<Rational>,
+}
+
+/// {0, −σ, σ}, or {0} when σ = 0: the exact observation first, so that an outcome's
+/// representative errs only where an error changes what the guard does.
+fn errors(sigma: &Rational) -> Vec<Rational> {
+    if *sigma > Rational::zero() {
+        vec![Rational::zero(), -sigma.clone(), sigma.clone()]
+    } else {
+        vec![Rational::zero()]
+    }
 }
 
 impl SceneModel {
     /// The model of a scene's exact numbers with each obstacle's speeds from `speeds`.
     pub fn new(params: SceneParams<Exact>, speeds: SceneSpeeds) -> Result<Self, ExploreError> {
-        if params.robot.noisy() || params.robot.d_det.is_some() {
-            return Err(ExploreError::Options(
-                "the scene explorer shows the robot every obstacle exactly from the start; \
-                 [sensing] settings are explored for single-obstacle problems only so far \
-                 (the run search decides scenes with them)"
-                    .into(),
-            ));
-        }
         if speeds.sets().len() != params.obstacles.len() {
             return Err(ExploreError::Options(format!(
                 "{} speed sets for {} obstacles",
@@ -101,10 +194,28 @@ impl SceneModel {
             .iter()
             .try_fold(1usize, |n, r| n.checked_mul(*r))
             .filter(|n| *n <= MAX_JOINT_ACTIONS);
-        if joint.is_none() {
+        let Some(joint) = joint else {
             return Err(ExploreError::Options(format!(
                 "the obstacles' speed sets combine to more than {MAX_JOINT_ACTIONS} joint \
                  choices per period; use fewer --speeds"
+            )));
+        };
+        let robot = params.robot.map(Rational::from_exact);
+        let gap_errors = errors(&robot.sigma_g);
+        let speed_errors = errors(&robot.sigma_w);
+        // Per obstacle at most: hidden, or shown with one error of each kind.
+        let looks = gap_errors.len() * speed_errors.len() + usize::from(robot.d_det.is_some());
+        let combinations = matters
+            .iter()
+            .filter(|&&m| m)
+            .try_fold(1usize, |n, _| n.checked_mul(looks))
+            .filter(|n| *n <= MAX_LOOK_COMBINATIONS && n * joint <= MAX_MOVES);
+        if combinations.is_none() {
+            return Err(ExploreError::Options(format!(
+                "the observation choices (hidden or shown, errors −σ, 0, +σ) of {} obstacles \
+                 and their speed sets combine to too many joint choices per period; use fewer \
+                 obstacles or --speeds",
+                matters.iter().filter(|&&m| m).count()
             )));
         }
         let levels = speeds
@@ -134,7 +245,14 @@ impl SceneModel {
             matters,
             starts,
             horizon,
+            gap_errors,
+            speed_errors,
         })
+    }
+
+    /// Whether the robot's observations are the environment's choice (noise or occlusion).
+    pub fn sensing(&self) -> bool {
+        self.params.robot.noisy() || self.params.robot.d_det.is_some()
     }
 
     /// The scene's exact numbers.
@@ -189,23 +307,190 @@ impl SceneModel {
         all
     }
 
-    /// The world at t = 0 from `starts` (one x per obstacle).
-    pub fn init_state(&self, starts: &[Exact]) -> SceneState {
-        SceneState {
-            world: SceneWorld::new(
-                self.params.clone(),
-                starts.iter().map(Rational::from_exact).collect(),
-            ),
-        }
+    /// The world at t = 0 from `starts` (one x per obstacle), every obstacle hidden with
+    /// occlusion (it is first shown by a later choice). None when no behaviour starts there
+    /// (an obstacle can never be first seen: its first observation already shows a true
+    /// gap below d_det).
+    pub fn init_state(&self, starts: &[Exact]) -> Option<SceneState> {
+        let world = SceneWorld::new(
+            self.params.clone(),
+            starts.iter().map(Rational::from_exact).collect(),
+        );
+        let hidden = vec![self.params.robot.d_det.is_some(); starts.len()];
+        self.admissible(SceneState { world, hidden })
     }
 
-    /// Number of joint actions of a running state.
-    pub fn joint_actions(&self) -> usize {
+    /// Number of speed combinations of a running state.
+    pub fn speed_actions(&self) -> usize {
         self.radix.iter().product()
     }
 
-    /// The speed index of each obstacle in joint action `action`: mixed radix, obstacle 0
-    /// most significant, so ascending actions list the choices in lexicographic order.
+    /// The true gap of obstacle i's next observation (the gap at t = 0 before the first
+    /// one, at step L).
+    fn next_observed_gap(&self, world: &SceneWorld<Rational>, i: usize) -> Rational {
+        match world.observation_if_shown(i) {
+            Some(obs) => obs.gap,
+            None => world.history(i).0.front().unwrap_or(world.gap(i)).clone(),
+        }
+    }
+
+    /// The true gap the observation after the next one will show, when it is already
+    /// known (latency ≥ 1, and the next observation exists): the gap at (k + 1 − L)·dt.
+    fn following_observed_gap(&self, world: &SceneWorld<Rational>, i: usize) -> Option<Rational> {
+        let l = self.params.robot.L;
+        world.observation_if_shown(i)?;
+        match l {
+            0 => None,
+            1 => Some(world.gap(i).clone()),
+            _ => {
+                let (gaps, _) = world.history(i);
+                gaps.get(gaps.len().checked_sub(l - 1)?).cloned()
+            }
+        }
+    }
+
+    /// `state`, unless it is *lost*: an obstacle still hidden whose next observation
+    /// already shows a true gap below d_det can never be first seen (gaps never grow), so
+    /// no behaviour passes through it. Once the robot no longer accelerates or drives no
+    /// guard reads an observation again, so the hidden marks are dropped there (the
+    /// behaviour shows each such obstacle at its next observation).
+    fn admissible(&self, mut state: SceneState) -> Option<SceneState> {
+        if let Some(d_det) = &self.params.robot.d_det {
+            for i in 0..state.hidden.len() {
+                if state.hidden[i] && self.next_observed_gap(&state.world, i) < *d_det {
+                    return None;
+                }
+            }
+        }
+        if !matches!(state.world.robot().mode, Mode::Accelerate | Mode::Drive) {
+            state.hidden.iter_mut().for_each(|h| *h = false);
+        }
+        Some(state)
+    }
+
+    /// The looks the environment may choose for obstacle i in `state`: while a guard reads
+    /// observations, a hidden obstacle stays hidden or (when its true observed gap is
+    /// ≥ d_det) is first shown; a shown one is shown with each error in {−σ_g, 0, σ_g} ×
+    /// {−σ_w, 0, σ_w}. An obstacle that cannot matter is shown exactly as soon as it may be.
+    fn looks(&self, state: &SceneState, i: usize) -> Vec<Look> {
+        let w = &state.world;
+        let reads = matches!(w.robot().mode, Mode::Accelerate | Mode::Drive);
+        let Some(truth) = w.observation_if_shown(i).filter(|_| reads) else {
+            return vec![if state.hidden[i] {
+                Look::Hidden
+            } else {
+                Look::exact()
+            }];
+        };
+        let showable = !state.hidden[i]
+            || self
+                .params
+                .robot
+                .d_det
+                .as_ref()
+                .is_none_or(|d| truth.gap >= *d);
+        if !self.matters[i] {
+            return vec![if showable {
+                Look::exact()
+            } else {
+                Look::Hidden
+            }];
+        }
+        // Every shown value beyond ρ: no guard and no free-lane test reads it, so errors
+        // change nothing, and a hidden obstacle may as well be first shown at the next
+        // observation, when that one still shows a true gap ≥ d_det (module docs,
+        // "Noise and occlusion").
+        let robot = &self.params.robot;
+        if truth.gap.clone() - robot.sigma_g.clone() > robot.rho {
+            if !state.hidden[i] {
+                return vec![Look::exact()];
+            }
+            let later = self
+                .following_observed_gap(w, i)
+                .zip(robot.d_det.as_ref())
+                .is_some_and(|(g, d)| g >= *d);
+            if later || !showable {
+                return vec![Look::Hidden];
+            }
+            return vec![Look::exact()];
+        }
+        let mut out = Vec::new();
+        if state.hidden[i] {
+            out.push(Look::Hidden);
+        }
+        // The speed read before any period has ended is the initial 0, with no error.
+        let zero = [Rational::zero()];
+        let speed_errors = if w.k() == robot.L {
+            &zero[..]
+        } else {
+            &self.speed_errors[..]
+        };
+        if showable {
+            for g in &self.gap_errors {
+                for e in speed_errors {
+                    out.push(Look::Shown {
+                        gap_error: g.clone(),
+                        speed_error: e.clone(),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The joint actions of a running state. Without noise or occlusion there is one
+    /// outcome (every obstacle shown exactly) and the actions are the speed combinations.
+    /// Otherwise every combination of looks is tried and grouped by what it changes: the
+    /// command it makes the guard give and which obstacles stay hidden (an observation is
+    /// read by that guard only, so two combinations that agree on both lead to the same
+    /// next state for every speed combination).
+    pub fn moves(&self, state: &SceneState) -> SceneMoves {
+        let speeds = self.speed_actions();
+        if !self.sensing() {
+            let exact = vec![Look::exact(); state.hidden.len()];
+            return SceneMoves {
+                outcomes: vec![exact],
+                speeds,
+            };
+        }
+        let options: Vec<Vec<Look>> = (0..state.hidden.len())
+            .map(|i| self.looks(state, i))
+            .collect();
+        let mut seen: Vec<(Option<Command>, Vec<bool>)> = Vec::new();
+        let mut outcomes = Vec::new();
+        let mut index = vec![0usize; options.len()];
+        loop {
+            let looks: Vec<Look> = index
+                .iter()
+                .zip(&options)
+                .map(|(&j, o)| o[j].clone())
+                .collect();
+            let command = state.world.command_seeing(|i, truth| looks[i].show(truth));
+            let hidden: Vec<bool> = looks.iter().map(|l| *l == Look::Hidden).collect();
+            let outcome = (command, hidden);
+            if !seen.contains(&outcome) {
+                seen.push(outcome);
+                outcomes.push(looks);
+            }
+            // Next combination: the last obstacle's choice varies fastest.
+            let mut i = options.len();
+            loop {
+                if i == 0 {
+                    return SceneMoves { outcomes, speeds };
+                }
+                i -= 1;
+                index[i] += 1;
+                if index[i] < options[i].len() {
+                    break;
+                }
+                index[i] = 0;
+            }
+        }
+    }
+
+    /// The speed index of each obstacle in speed combination `action`: mixed radix,
+    /// obstacle 0 most significant, so ascending combinations list the choices in
+    /// lexicographic order.
     pub fn choices(&self, action: usize) -> Vec<usize> {
         let mut rest = action;
         let mut out = vec![0; self.radix.len()];
@@ -252,9 +537,12 @@ impl SceneModel {
         let lane: Vec<usize> = (0..p.obstacles.len())
             .filter(|&i| p.obstacles[i].lane == lateral.lane)
             .collect();
+        // Observed ≤ 0 whatever the error (a hidden obstacle is first shown at a gap
+        // ≥ d_det > 0).
+        let past = -p.robot.sigma_g.clone();
         let passed = lane
             .iter()
-            .all(|&i| w.seen(i).is_some_and(|o| o.gap <= Rational::zero()));
+            .all(|&i| !state.hidden[i] && w.seen(i).is_some_and(|o| o.gap <= past));
         if !passed {
             return Vec::new();
         }
@@ -263,26 +551,39 @@ impl SceneModel {
             .collect()
     }
 
-    /// The state `action` leads to from `state`, through [`SceneWorld::step`].
-    pub fn next_state(&self, state: &SceneState, action: usize) -> SceneTransition {
+    /// The state joint action `action` (of `moves`, the state's [`SceneModel::moves`])
+    /// leads to from `state`, through [`SceneWorld::step_seeing`]; None when it is lost (no
+    /// behaviour passes through it, see [`SceneModel::init_state`]).
+    pub fn next_state(
+        &self,
+        state: &SceneState,
+        moves: &SceneMoves,
+        action: usize,
+    ) -> Option<SceneTransition> {
         let speeds: Vec<Rational> = self
-            .choices(action)
+            .choices(moves.speed_action(action))
             .into_iter()
             .enumerate()
             .map(|(i, c)| self.levels[i][c].clone())
             .collect();
+        let looks = moves.looks(action);
         let mut world = state.world.clone();
-        let record = world.step(&speeds);
-        SceneTransition {
-            record,
-            next: SceneState { world },
-        }
+        let record = world.step_seeing(&speeds, |i, truth| looks[i].show(truth));
+        let hidden = state
+            .hidden
+            .iter()
+            .zip(looks)
+            .map(|(&h, l)| h && *l == Look::Hidden)
+            .collect();
+        let next = self.admissible(SceneState { world, hidden })?;
+        Some(SceneTransition { record, next })
     }
 
     /// The exact key of `state`, whose status is `status`.
     pub fn key(&self, state: &SceneState, status: SceneStatus) -> SceneKey {
+        let hidden = self.sensing().then_some(state.hidden.as_slice());
         match status {
-            SceneStatus::Running => SceneKey::running(&state.world, &self.matters),
+            SceneStatus::Running => SceneKey::running(&state.world, &self.matters, hidden),
             SceneStatus::Stopped => SceneKey::ended(Ending::Stopped),
             SceneStatus::Settled => SceneKey::ended(Ending::Settled),
             SceneStatus::NeverBrakes => SceneKey::ended(Ending::NeverBrakes),

@@ -4,12 +4,12 @@
 //! read back from the search's parent links and replayed from scratch through
 //! [`simulate::replay_exact_speeds`].
 
-use super::model::{SceneModel, SceneState, SceneStatus, SceneTransition};
+use super::model::{Look, SceneModel, SceneState, SceneStatus, SceneTransition};
 use super::speeds::SceneSpeeds;
-use crate::core::num::Exact;
+use crate::core::num::{Exact, Scalar};
 use crate::core::rational::Rational;
-use crate::core::scene::Scene;
 use crate::core::scene::simulate::{self, SceneReplay};
+use crate::core::scene::{ObservationPlan, Scene};
 use crate::crosscheck::bfs::{self, MAX_NODES, NodeId, Reached, Successors};
 use crate::crosscheck::explore::{ExploreError, ExploreVerdict, Options};
 
@@ -22,7 +22,10 @@ pub struct ScenePath {
     pub starts: Vec<Exact>,
     /// `speeds[i][k]`: obstacle i's speed in period k, exactly.
     pub speeds: Vec<Vec<Exact>>,
-    /// The path replayed from scratch through [`simulate::replay_exact_speeds`] (for a
+    /// What the robot was shown (exact observations, every obstacle visible from the
+    /// start, unless the scene has noise or occlusion).
+    pub plan: ObservationPlan<Exact>,
+    /// The path replayed from scratch through [`simulate::replay_observing`] (for a
     /// counterexample, stopping at its collision).
     pub replay: SceneReplay,
 }
@@ -212,7 +215,9 @@ pub fn explore_scene_model(
     let mut roots: Vec<Vec<Exact>> = Vec::new();
     let mut init: Vec<(SceneKey, SceneState)> = Vec::new();
     for starts in model.start_combinations() {
-        let state = model.init_state(&starts);
+        let Some(state) = model.init_state(&starts) else {
+            continue;
+        };
         let key = model.key(&state, SceneStatus::Running);
         if !init.iter().any(|(k, _)| *k == key) {
             init.push((key, state));
@@ -307,8 +312,12 @@ fn expand(
         watch.horizon_reached = true;
         return;
     }
-    for action in 0..model.joint_actions() {
-        let t = model.next_state(state, action);
+    let moves = model.moves(state);
+    for action in 0..moves.len() {
+        // A lost next state belongs to no behaviour: its step is not watched either.
+        let Some(t) = model.next_state(state, &moves, action) else {
+            continue;
+        };
         let end = PathEnd {
             node: id,
             action: action as u32,
@@ -339,16 +348,44 @@ fn replay(
     let (root, mut actions) = reached.rooted_path_to(end.node);
     actions.push(end.action);
     let n = model.params().obstacles.len();
+    let starts = roots[root as usize].clone();
+    let inconsistent = || ExploreError::Inconsistent("a stored path is not a path".into());
+    // The actions' looks depend on the state they are taken in: walk the model again.
+    let mut state = model.init_state(&starts).ok_or_else(inconsistent)?;
     let mut speeds: Vec<Vec<Exact>> = vec![Vec::with_capacity(actions.len()); n];
-    for &a in &actions {
-        for (i, c) in model.choices(a as usize).into_iter().enumerate() {
+    let mut plan = ObservationPlan::exact(n);
+    plan.hidden_until = vec![actions.len(); n];
+    for (k, &a) in actions.iter().enumerate() {
+        let moves = model.moves(&state);
+        let a = a as usize;
+        for (i, c) in model.choices(moves.speed_action(a)).into_iter().enumerate() {
             speeds[i].push(model.speed(i, c).clone());
         }
+        for (i, look) in moves.looks(a).iter().enumerate() {
+            let Look::Shown {
+                gap_error,
+                speed_error,
+            } = look
+            else {
+                continue;
+            };
+            plan.hidden_until[i] = plan.hidden_until[i].min(k);
+            if *gap_error != Rational::zero() || *speed_error != Rational::zero() {
+                plan.errors
+                    .insert((i, k), (gap_error.to_exact(), speed_error.to_exact()));
+            }
+        }
+        if k + 1 < actions.len() {
+            state = model
+                .next_state(&state, &moves, a)
+                .ok_or_else(inconsistent)?
+                .next;
+        }
     }
-    let starts = roots[root as usize].clone();
-    let replay = simulate::replay_exact_speeds(
+    let replay = simulate::replay_observing(
         model.params(),
         &speeds,
+        &plan,
         &starts,
         actions.len(),
         stop_at_collision,
@@ -363,6 +400,7 @@ fn replay(
     Ok(ScenePath {
         starts,
         speeds,
+        plan,
         replay,
     })
 }
