@@ -21,5 +21,6 @@ pub mod sweep_file;
 pub use analyse::*;
 pub use monte_carlo::{MonteCarlo, monte_carlo, monte_carlo_run, random_speeds};
 pub use scene_monte_carlo::{
-    ObstacleMonteCarlo, RandomBehaviour, SceneMonteCarlo, SpeedPattern, scene_monte_carlo,
+    LateObserver, ObstacleMonteCarlo, RandomBehaviour, SceneMonteCarlo, SpeedPattern,
+    scene_monte_carlo, scene_monte_carlo_run,
 };

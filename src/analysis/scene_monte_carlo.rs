@@ -7,13 +7,19 @@
 //! `seed + i` on stream j, and the starts and patterns from stream `u64::MAX` of the same
 //! seed. So obstacle 0 under [`SpeedPattern::Uniform`] gets exactly the speeds
 //! [`random_speeds`](super::random_speeds) gives the single-obstacle run i.
+//!
+//! With `[sensing]` the environment also plays the observations as the single-obstacle
+//! Monte Carlo does ([`LateObserver`]): every error makes the obstacle look farther and
+//! slower (or already passed, where the noise allows), and with occlusion the odd runs
+//! keep every obstacle hidden as late as the premise allows.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::core::scene::SceneParams;
-use crate::core::scene::simulate::{horizon, run};
+use crate::core::scene::simulate::{SceneRun, horizon, run_observing};
+use crate::core::semantics::Observation;
 
 /// How an obstacle picks its speed each period in a random run (W = its bound W_i).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -145,6 +151,102 @@ impl RandomBehaviour {
     }
 }
 
+/// The observations of a random run with `[sensing]`: what keeps the robot from reacting
+/// for as long as the premises allow.
+///
+/// - **Errors**: each observation's gap is shown σ_g farther, or σ_g nearer where that
+///   shows it already passed (≤ 0); its speed σ_w slower (not the speed read before any
+///   period has ended, the initial 0). With one obstacle this keeps the guard quiet exactly
+///   when some error can (as `World::seen` does), so a one-obstacle scene runs as the
+///   single-obstacle Monte Carlo.
+/// - **Occlusion** (`hide_late`): an obstacle stays hidden while its next observation is
+///   sure to show a true gap ≥ d_det (a gap falls by at most (v_max + W_i)·dt per period),
+///   and is shown from the last observation that surely does — a pedestrian stepping out
+///   as late as the premise allows (`simulate::run_hiding_late`).
+#[derive(Clone, Debug)]
+pub struct LateObserver {
+    sigma_g: f64,
+    sigma_w: f64,
+    /// Per obstacle: the least true gap it may still be hidden at (None: shown).
+    hide_above: Vec<Option<f64>>,
+    latency: usize,
+}
+
+impl LateObserver {
+    /// The observer of a run; `hide_late`: hide every obstacle as late as allowed (only
+    /// with occlusion).
+    pub fn new(params: &SceneParams<f64>, hide_late: bool) -> LateObserver {
+        let p = &params.robot;
+        let hide_above = params
+            .obstacles
+            .iter()
+            .map(|o| match (&p.d_det, hide_late) {
+                (Some(d), true) => Some(d + (p.v_max + o.max_speed) * p.dt),
+                _ => None,
+            })
+            .collect();
+        LateObserver {
+            sigma_g: p.sigma_g,
+            sigma_w: p.sigma_w,
+            hide_above,
+            latency: p.L,
+        }
+    }
+
+    /// What the robot is shown of obstacle i at step k's start, whose true observation is
+    /// `truth` (None: hidden).
+    pub fn show(
+        &mut self,
+        i: usize,
+        k: usize,
+        truth: Observation<f64>,
+    ) -> Option<Observation<f64>> {
+        if let Some(above) = self.hide_above[i] {
+            if truth.gap >= above {
+                return None;
+            }
+            self.hide_above[i] = None;
+        }
+        let gap = if truth.gap - self.sigma_g <= 0.0 {
+            truth.gap - self.sigma_g
+        } else {
+            truth.gap + self.sigma_g
+        };
+        let speed = if k > self.latency {
+            truth.speed - self.sigma_w
+        } else {
+            truth.speed
+        };
+        Some(Observation { gap, speed })
+    }
+}
+
+/// Monte Carlo run `run` of a scene: [`RandomBehaviour::new`]'s speeds and starts, and with
+/// `[sensing]` the [`LateObserver`]'s observations (hiding late in the odd runs), until the
+/// robot rests, collides (if `stop_at_collision`), nothing can happen any more, or
+/// `max_steps` periods. `simulate --trace` replays the closest run so.
+pub fn scene_monte_carlo_run(
+    params: &SceneParams<f64>,
+    seed: u64,
+    run: usize,
+    patterns: &[SpeedPattern],
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> SceneRun<f64> {
+    let mut behaviour = RandomBehaviour::new(params, seed, run, patterns);
+    let starts = behaviour.starts.clone();
+    let hide_late = params.robot.d_det.is_some() && run % 2 == 1;
+    let mut observer = LateObserver::new(params, hide_late);
+    run_observing(
+        params.clone(),
+        |j, _| behaviour.next_speed(j),
+        |i, k, truth| observer.show(i, k, truth),
+        starts,
+        max_steps,
+        stop_at_collision,
+    )
+}
+
 /// One obstacle's share of a Monte Carlo summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ObstacleMonteCarlo {
@@ -203,16 +305,7 @@ pub fn scene_monte_carlo(
             .collect(),
     };
     for i in 0..runs {
-        let mut behaviour = RandomBehaviour::new(params, seed, i, patterns);
-        let starts = behaviour.starts.clone();
-        let outcome = run(
-            params.clone(),
-            |j, _| behaviour.next_speed(j),
-            starts,
-            max,
-            true,
-        )
-        .outcome;
+        let outcome = scene_monte_carlo_run(params, seed, i, patterns, max, true).outcome;
         summary.collisions += usize::from(outcome.collided);
         for (total, o) in summary.obstacles.iter_mut().zip(&outcome.obstacles) {
             total.collisions += usize::from(o.collided);
@@ -246,24 +339,45 @@ mod tests {
     }
 
     /// A one-obstacle scene under the uniform pattern is today's Monte Carlo, run for run:
-    /// the same collisions, least separation and closest run.
+    /// the same collisions, least separation and closest run — with noise and occlusion
+    /// too (the same errors' effect, the same late sightings).
     #[test]
     fn uniform_one_obstacle_scene_is_the_single_obstacle_monte_carlo() {
-        for w in [0.15, 0.3, 0.6] {
-            let problem = seed_problem(w);
+        let sensings = [
+            None,
+            Some((0.02, 0.05, None)),
+            Some((0.0, 0.0, Some(0.5))),
+            Some((0.03, 0.02, Some(1.1))),
+        ];
+        for (w, sensing) in [0.15, 0.3, 0.6]
+            .into_iter()
+            .flat_map(|w| sensings.map(|s| (w, s)))
+        {
+            let mut problem = seed_problem(w);
+            problem.sensing = sensing.map(|(g, s, d)| crate::core::model::Sensing {
+                gap_noise: Some(g),
+                speed_noise: Some(s),
+                first_detection_gap: d,
+            });
             let old = monte_carlo(&problem.params::<f64>(), 200, 7);
             let scene = Scene::from_problem(&problem);
             let new = scene_monte_carlo(&scene.params(), 200, 7, &[SpeedPattern::Uniform]);
-            assert_eq!(old.collisions, new.collisions, "W = {w}");
-            assert_eq!(Some(old.min_separation), new.min_separation, "W = {w}");
-            assert_eq!(old.closest_run, new.closest_run, "W = {w}");
+            assert_eq!(old.collisions, new.collisions, "W = {w}, {sensing:?}");
+            assert_eq!(
+                Some(old.min_separation),
+                new.min_separation,
+                "W = {w}, {sensing:?}"
+            );
+            assert_eq!(old.closest_run, new.closest_run, "W = {w}, {sensing:?}");
             assert_eq!(new.closest_obstacle.as_deref(), Some("obstacle-0"));
             assert_eq!(new.obstacles[0].collisions, new.collisions);
-            assert_eq!(
-                new.collisions > 0,
-                w > 0.5,
-                "only the fastest obstacle hits"
-            );
+            if sensing.is_none() {
+                assert_eq!(
+                    new.collisions > 0,
+                    w > 0.5,
+                    "only the fastest obstacle hits"
+                );
+            }
         }
     }
 
@@ -333,12 +447,11 @@ mod tests {
         });
         let params: SceneParams<f64> = scene.params();
         let mc = scene_monte_carlo(&params, 100, 5, &SpeedPattern::ALL);
-        let mut b = RandomBehaviour::new(&params, 5, mc.closest_run, &SpeedPattern::ALL);
-        let starts = b.starts.clone();
-        let again = run(
-            params.clone(),
-            |j, _| b.next_speed(j),
-            starts,
+        let again = scene_monte_carlo_run(
+            &params,
+            5,
+            mc.closest_run,
+            &SpeedPattern::ALL,
             horizon(&params),
             true,
         );

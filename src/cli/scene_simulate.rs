@@ -5,7 +5,7 @@ use std::io::Write;
 
 use anyhow::{Context, Result};
 
-use safereach::analysis::{RandomBehaviour, SpeedPattern, scene_monte_carlo};
+use safereach::analysis::{SpeedPattern, scene_monte_carlo, scene_monte_carlo_run};
 use safereach::core::num::Exact;
 use safereach::core::output::scene_trace_for_path;
 use safereach::core::scene::{Scene, simulate};
@@ -132,12 +132,11 @@ pub fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Ex
     let patterns = SpeedPattern::ALL;
     let mc = scene_monte_carlo(&params, args.runs, args.seed, &patterns);
     if let Some(trace) = &args.trace {
-        let mut behaviour = RandomBehaviour::new(&params, args.seed, mc.closest_run, &patterns);
-        let starts = behaviour.starts.clone();
-        let run = simulate::run(
-            params.clone(),
-            |i, _| behaviour.next_speed(i),
-            starts,
+        let run = scene_monte_carlo_run(
+            &params,
+            args.seed,
+            mc.closest_run,
+            &patterns,
             simulate::horizon(&params),
             false,
         );
