@@ -272,6 +272,10 @@ pub fn walk(
                     };
                     if let Sight::Hidden { .. } = sight {
                         // Hidden at this read: it must stay showable (a true gap ≥ d_det).
+                        // Implied by what the first sighting or the leaf asks later (a gap
+                        // ≥ d_det at `since` > n; gaps never grow), so it changes no answer
+                        // (400 random scenes agree without it): it prunes early (seed-lanes,
+                        // d_det = 0.8: 3.4 s with it, 4.6 s without).
                         let still = sense.detectable(seen_at);
                         if let Some(chain) = node.chains[i].constrain(n, &still, &Interval::all()) {
                             here.push(Reachable {
