@@ -564,3 +564,53 @@ fn scene_monte_carlo_plays_noise_and_occlusion_within_the_premises() {
         mc.min_separation
     );
 }
+
+/// An obstacle that starts closer than d_det could never be first seen: the premise would
+/// rule it out and every answer would hold vacuously (the search found no behaviour and
+/// said s* = +∞). Refused, naming the obstacle's position, in scenes and problems, from the
+/// file and from `--set`, exit 2.
+#[test]
+fn an_obstacle_starting_inside_d_det_is_refused() {
+    let text = std::fs::read_to_string(crate::common::paths::problem_file("seed-lanes.toml"))
+        .expect("the shipped scene");
+    // parked-left starts at 6 m.
+    let err = Scene::from_toml_str(
+        &format!("{text}\n[sensing]\nfirst_detection_gap = 7\n"),
+        "l.toml",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("l.toml")
+            && err.contains("(\"parked-left\").position = 6")
+            && err.contains(">= sensing.first_detection_gap = 7 (m)"),
+        "{err}"
+    );
+    assert!(
+        Scene::from_toml_str(
+            &format!("{text}\n[sensing]\nfirst_detection_gap = 6\n"),
+            "l.toml"
+        )
+        .is_ok(),
+        "a start at d_det itself can be seen at its first observation"
+    );
+    let dir = crate::common::tmp();
+    let out = crate::common::cli::safereach(dir.path())
+        .arg("certify")
+        .arg(crate::common::paths::seed_file())
+        .args([
+            "--set",
+            "environment.initial_gap=[0.5, 3]",
+            "--set",
+            "sensing.first_detection_gap=0.8",
+        ])
+        .assert()
+        .code(2)
+        .get_output()
+        .clone();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("environment.initial_gap = [0.5, 3]: its min must be >= sensing.first_detection_gap = 0.8 (m)"),
+        "{err}"
+    );
+}

@@ -71,18 +71,26 @@ impl Problem {
                 ),
             });
         }
-        (gap.min() <= r.clearance).then(|| Violation {
+        let which = if gap.is_range() {
+            "its min must be"
+        } else {
+            "must be"
+        };
+        if gap.min() <= r.clearance {
+            return Some(Violation {
+                key: "environment.initial_gap",
+                value: show_range(&gap),
+                reason: format!(
+                    "{which} > robot.clearance = {} (m): the robot would start in collision",
+                    show_number(r.clearance)
+                ),
+            });
+        }
+        let d_det = self.sensing.as_ref().and_then(|s| s.first_detection_gap);
+        d_det.filter(|&d| gap.min() < d).map(|d| Violation {
             key: "environment.initial_gap",
             value: show_range(&gap),
-            reason: format!(
-                "{} > robot.clearance = {} (m): the robot would start in collision",
-                if gap.is_range() {
-                    "its min must be"
-                } else {
-                    "must be"
-                },
-                show_number(r.clearance)
-            ),
+            reason: occluded_too_close(which, d),
         })
     }
 
@@ -137,6 +145,19 @@ pub(crate) fn robot_violation(r: &Robot) -> Option<Violation> {
         });
     }
     None
+}
+
+/// Why a start closer than d_det is refused: no observation of it could be its first
+/// sighting, so the occlusion premise would rule the obstacle out and an answer would hold
+/// vacuously.
+pub(crate) fn occluded_too_close(which: &str, d_det: f64) -> String {
+    format!(
+        "{which} >= sensing.first_detection_gap = {} (m): an occluded obstacle is first seen at \
+         a true gap of at least d_det, so one starting closer could never be seen and the \
+         premise would rule it out (every answer would hold vacuously); start it at d_det or \
+         beyond, or lower d_det",
+        show_number(d_det)
+    )
 }
 
 /// The robot's and the controller's numbers with their dotted keys, in file order (the

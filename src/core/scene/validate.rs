@@ -8,7 +8,7 @@ use crate::core::model::error::{Violation, show_number};
 use crate::core::model::keys::{KEYS, Kind, MAX_PERIODS};
 use crate::core::model::validate::{
     distance_horizon_violation, latency_violation, motion_horizon_violation, number_violation,
-    robot_controller_numbers, robot_violation, sensing_numbers,
+    occluded_too_close, robot_controller_numbers, robot_violation, sensing_numbers,
 };
 use crate::core::model::{ProblemError, error::show_count};
 use crate::core::scene::keys::{
@@ -267,11 +267,11 @@ impl Scene {
     fn cross_violation(&self) -> Option<SceneViolation> {
         let r = &self.robot;
         for (i, o) in self.obstacles.iter().enumerate() {
+            let which = match o.position {
+                Position::At(_) => "must be",
+                Position::Range(..) => "its min must be",
+            };
             if o.position.min() <= r.clearance {
-                let which = match o.position {
-                    Position::At(_) => "must be",
-                    Position::Range(..) => "its min must be",
-                };
                 return Some(SceneViolation {
                     key: SceneKey::Obstacle(i, POSITION.key),
                     value: show_position(&o.position),
@@ -280,6 +280,14 @@ impl Scene {
                          beyond its clearance",
                         show_number(r.clearance)
                     ),
+                });
+            }
+            let d_det = self.sensing.as_ref().and_then(|s| s.first_detection_gap);
+            if let Some(d) = d_det.filter(|&d| o.position.min() < d) {
+                return Some(SceneViolation {
+                    key: SceneKey::Obstacle(i, POSITION.key),
+                    value: show_position(&o.position),
+                    reason: occluded_too_close(which, d),
                 });
             }
         }
