@@ -154,6 +154,23 @@ pub fn cells(role: Role, th: &Thresholds) -> Vec<Cell> {
     out
 }
 
+/// Whether the guards read `cell` of an obstacle in `role` as they read nothing: in the
+/// robot's lane, not dangerous and not seen faster than V_a (or not relevant at all). No
+/// other obstacle's reading changes that (danger, the lane change's time test and the
+/// wrong assumption are read per obstacle). Only the reference role: a target's cells are
+/// read by the free-lane test, which the search treats apart.
+pub fn quiet(role: Role, th: &Thresholds, cell: &Cell) -> bool {
+    let Some(seen) = &cell.seen else {
+        return true;
+    };
+    if role != Role::Reference {
+        return false;
+    }
+    let (relevant, dangerous, _, _) = labels(role, th, &seen.gap);
+    let fast = th.wrong_above.as_ref().is_some_and(|va| seen.speed > *va);
+    !(dangerous || relevant && fast)
+}
+
 /// A representative speed of a speed cell: V_a/2 for [0, V_a], V_a + 1 above it (a speed
 /// cell is cut by V_a alone, so any point on the right side represents it).
 fn speed_point(speed: &Interval, va: &Rational) -> Rational {

@@ -103,6 +103,23 @@ impl Sense {
     }
 }
 
+impl Sense {
+    /// True positions at which a robot at `robot_at` could not be shown the obstacle for
+    /// the first time: x < robot_at + d_det (nothing without occlusion).
+    pub fn undetectable(&self, robot_at: &Rational) -> Interval {
+        match &self.d_det {
+            Some(d) => Interval {
+                lo: None,
+                hi: Some(End::open(robot_at.clone() + d.clone())),
+            },
+            None => Interval {
+                lo: Some(End::open(Rational::zero())),
+                hi: Some(End::open(Rational::zero())),
+            },
+        }
+    }
+}
+
 /// `x` widened by σ on both sides (its ends keep their kind).
 fn widened(x: &Interval, sigma: &Rational) -> Interval {
     if *sigma == Rational::zero() {

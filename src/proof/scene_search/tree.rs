@@ -21,7 +21,7 @@ use crate::core::semantics::{BrakeReason, Observation, RobotState, danger_distan
 
 use std::rc::Rc;
 
-use super::cells::{Cell, Role, Thresholds, cells};
+use super::cells::{Cell, Role, Thresholds, cells, quiet};
 use super::chain::Chain;
 use super::interval::Interval;
 use super::sense::{Sense, Sight};
@@ -257,15 +257,23 @@ pub fn walk(
                             .into_iter()
                             .filter_map(|cell| {
                                 let far = far_cell(p, &sense, &cell);
-                                if far && matches!(sight, Sight::Shown { far_only: true, .. }) {
+                                let quiet =
+                                    far || (sense.d_det.is_some() && quiet(role, &th, &cell));
+                                let dominated =
+                                    quiet && matches!(sight, Sight::Shown { far_only: true, .. });
+                                if far && dominated {
                                     // Dominated: see `far_cell`.
                                     return None;
                                 }
                                 let after = Sight::Shown {
                                     from,
-                                    far_only: far_only && far,
+                                    far_only: far_only && quiet,
                                 };
-                                reach(base, cell, n, seen_at, &sense, after)
+                                let r = reach(base, cell, n, seen_at, &sense, after)?;
+                                match dominated {
+                                    true => undominated(r, n, seen_at, &sense),
+                                    false => Some(r),
+                                }
                             })
                             .collect(),
                         None => Vec::new(),
@@ -461,6 +469,24 @@ fn far_cell(p: &SceneParams<Rational>, sense: &Sense, cell: &Cell) -> bool {
             .as_ref()
             .is_some_and(|lo| lo.at >= p.robot.rho && !(lo.at == p.robot.rho && lo.closed));
     beyond_rho && *d <= p.robot.rho.clone() - sense.sigma_g.clone()
+}
+
+/// Quiet cells (`cells::quiet`: the guards read them as nothing) generalise far cells,
+/// with a split. Let an obstacle be first shown at read m′ and read only in quiet cells
+/// since (`far_only`), and let a behaviour B of that lineage read it at read m + 1 in a
+/// quiet cell Q′ with a true gap ≥ d_det there. Then the behaviour B′ with the same motion
+/// that hides it through read m and first shows it at m + 1 in Q′ is a behaviour of the
+/// sibling lineage hidden at m′: its first sighting has a true gap ≥ d_det, every hidden
+/// read before has one too (gaps never grow), and every command is B's (B's reads were
+/// quiet, B′'s unseen). From m + 1 on the two are the same. So the lineage keeps of Q′
+/// only the truths below d_det (for a far cell, whose truths are all showable, nothing:
+/// `far_cell`), exactly for s*; a hidden obstacle inside a large ρ then starts new runs
+/// only where showing it changes a command.
+fn undominated(mut r: Reachable, n: usize, seen_at: &Rational, sense: &Sense) -> Option<Reachable> {
+    r.chain = r
+        .chain
+        .constrain(n, &sense.undetectable(seen_at), &Interval::all())?;
+    Some(r)
 }
 
 /// Whether obstacle i is still hidden at read n while every error would show it beyond ρ
