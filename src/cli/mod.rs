@@ -14,6 +14,7 @@ use clap::{Parser, Subcommand};
 mod boundary;
 mod certify;
 mod check;
+mod decode_ahead;
 mod exit;
 mod explore;
 mod explore_scene;
