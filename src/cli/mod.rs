@@ -14,7 +14,6 @@ use clap::{Parser, Subcommand};
 mod boundary;
 mod certify;
 mod check;
-mod decode_ahead;
 mod exit;
 mod explore;
 mod explore_scene;

@@ -5,8 +5,7 @@
 //! library's [`Decoder`] and [`Monitor`], and prints. It streams: stdout is flushed whenever
 //! the input has no complete line buffered, right before a read that may block, so on a pipe
 //! (`tail -f -n +1 log.csv | safereach monitor --certificate cert.json -`) every verdict is
-//! out as soon as its sample is in, and on a file the output is written in large blocks
-//! while a second thread splits and decodes the lines ahead ([`DecodeAhead`]).
+//! out as soon as its sample is in, and on a file the output is written in large blocks.
 //!
 //! Output (stdout), one line per sample unless `--events-only`:
 //!
@@ -38,11 +37,9 @@ use serde::Serialize;
 use safereach::core::show::value;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Line, Lines, MAX_LINE};
 use safereach::monitor::{
-    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, ObstacleId,
-    PremiseSummary, SceneSummary, Status, Summary, Verdict,
+    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
+    SceneSummary, Status, Summary, Verdict,
 };
-
-use super::decode_ahead::{DecodeAhead, Item};
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -91,8 +88,6 @@ struct Session {
     input: Box<dyn Read + Send>,
     /// The input as named in errors: the trace's path, or `standard input`.
     origin: String,
-    /// Reading standard input: each verdict goes out as soon as its line is in.
-    live: bool,
     printer: Printer,
 }
 
@@ -134,7 +129,6 @@ impl Session {
             } else {
                 args.trace.display().to_string()
             },
-            live,
             printer: Printer {
                 json: args.json,
                 per_sample: !args.json && !args.events_only,
@@ -151,16 +145,11 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
         mut decoder,
         input,
         origin,
-        live,
         mut printer,
     } = Session::new(&args)?;
     // Verdicts are printed in large blocks, and flushed before every read that may block.
     let mut out = BufWriter::with_capacity(1 << 16, out);
     let input = Interruptible::new(input).context("listening for Ctrl-C and SIGTERM")?;
-    if !live {
-        let ahead = DecodeAhead::start(decoder, input);
-        return run_ahead(monitor, ahead, &origin, printer, &mut out);
-    }
     let mut lines = Lines::new(input);
     loop {
         let line = lines
@@ -204,56 +193,6 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
         eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
     }
     finish(&monitor, &decoder, &printer, &mut out, &origin)
-}
-
-/// [`run`] on a trace file, decoded ahead on a second thread ([`DecodeAhead`]): the same
-/// samples reach the monitor in the same order, so the output is the same.
-fn run_ahead(
-    mut monitor: Monitor,
-    mut ahead: DecodeAhead,
-    origin: &str,
-    mut printer: Printer,
-    out: &mut impl Write,
-) -> Result<Exit> {
-    // The obstacles' names, by integer id, as the decoding thread sends them.
-    let mut names: Vec<String> = Vec::new();
-    while let Some(batch) = ahead
-        .next_batch()
-        .with_context(|| format!("reading {origin}"))?
-    {
-        for e in &batch.entries {
-            let was = monitor.verdict();
-            let outcome = match e.item {
-                Item::Sample(sample, lanes) => {
-                    if let Some(name) = batch.new_name(e) {
-                        // What `observe_decoded` does for a new id (scene certificates).
-                        names.push(name.to_string());
-                        monitor.identify(sample.obstacle_id, name);
-                    }
-                    monitor.observe_in_lanes(&sample, lanes)
-                }
-                Item::Robot(sample, lanes) => monitor.observe_robot(&sample, lanes),
-                Item::Malformed(t, detail) => monitor.malformed(t, detail),
-            };
-            printer
-                .sample(
-                    out,
-                    &names,
-                    e.number,
-                    batch.t_text(e),
-                    was,
-                    outcome.verdict,
-                    outcome.events,
-                )
-                .context("writing the output")?;
-        }
-        ahead.recycle(batch);
-    }
-    let (decoder, signal) = ahead.finish();
-    if let Some(signal) = signal {
-        eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
-    }
-    finish(&monitor, &decoder, &printer, out, origin)
 }
 
 /// Prints the summary of what was read; the exit status: the verdict's, or 2 when no sample
@@ -341,27 +280,9 @@ struct SummaryJson<'a> {
     scene: Option<&'a SceneSummary>,
 }
 
-/// Obstacle names by integer id: the decoder's, or those [`DecodeAhead`] sent.
-trait Names {
-    /// The name of `id` (empty if unknown, as [`safereach::monitor::trace::Ids::name`]).
-    fn name(&self, id: ObstacleId) -> &str;
-}
-
-impl Names for Decoder {
-    fn name(&self, id: ObstacleId) -> &str {
-        self.ids().name(id)
-    }
-}
-
-impl Names for Vec<String> {
-    fn name(&self, id: ObstacleId) -> &str {
-        self.get(id as usize).map_or("", String::as_str)
-    }
-}
-
 /// An obstacle's name as the trace wrote it.
-fn obstacle_name<'d>(names: &'d impl Names, e: &Event) -> Option<&'d str> {
-    e.obstacle_id.map(|id| names.name(id))
+fn obstacle_name<'d>(decoder: &'d Decoder, e: &Event) -> Option<&'d str> {
+    e.obstacle_id.map(|id| decoder.ids().name(id))
 }
 
 impl Printer {
@@ -369,7 +290,7 @@ impl Printer {
     fn sample(
         &mut self,
         out: &mut impl Write,
-        names: &impl Names,
+        decoder: &Decoder,
         line: u64,
         t_text: Option<&[u8]>,
         was: Verdict,
@@ -382,14 +303,14 @@ impl Printer {
             self.first = Some(First {
                 line,
                 t_text: t_text.map(|t| String::from_utf8_lossy(t).into_owned()),
-                obstacle: obstacle_name(names, e).map(str::to_string),
+                obstacle: obstacle_name(decoder, e).map(str::to_string),
             });
         }
         if self.json {
             for e in events {
                 serde_json::to_writer(
                     &mut *out,
-                    &EventJson::new(e, obstacle_name(names, e), line),
+                    &EventJson::new(e, obstacle_name(decoder, e), line),
                 )?;
                 out.write_all(b"\n")?;
             }
@@ -410,7 +331,7 @@ impl Printer {
             out.write_all(b"t=")?;
             out.write_all(t_text.unwrap_or(b"?"))?;
             out.write_all(b" VIOLATION ")?;
-            describe(out, e, obstacle_name(names, e))?;
+            describe(out, e, obstacle_name(decoder, e))?;
             writeln!(out, " (line {line})")?;
         }
         Ok(())
