@@ -805,3 +805,48 @@ fn sigterm_on_a_live_monitor_prints_the_summary_of_what_was_read() {
     // The noisy trace violates the exact certificate's premises: the verdict stands.
     assert_eq!(status.code(), Some(1), "{rest}");
 }
+
+/// A trace file and the same bytes on standard input give the same output, byte for byte
+/// (a guard for any faster path for files, e.g. decoding ahead in batches), on long traces
+/// with every kind of line: malformed rows, robot-only rows (dropouts), a line too long, an
+/// obstacle first seen late, CRLF line ends, and no line end after the last row.
+#[test]
+fn a_trace_file_reads_as_standard_input_does() {
+    let dir = tmp();
+    certify_seed(dir.path(), "0.2");
+    let mut csv = HEADER.to_string();
+    for k in 0..12_000u32 {
+        let t = f64::from(k) * 0.1;
+        let (x, id) = (0.02 * t, ["A", "B", "C"][(k % 3) as usize]);
+        match k % 997 {
+            5 => csv += "this is not a sample\n",
+            6 => csv += &format!("{t},{x},0.2,drive,,,\n"),
+            7 => csv += &format!("{t},{x},0.2,drive,{id},NaN,0.1\n"),
+            8 => csv += "\n",
+            _ => csv += &format!("{t},{x},0.2,drive,{id},{},0.1\n", 10_000.0 - 0.01 * t),
+        }
+        if k == 9_000 {
+            csv += &"x".repeat(1 << 20 | 1);
+            csv += "\n0,0,0.2,drive,late,0.5,0.1\n";
+        }
+    }
+    let crlf = csv.replace('\n', "\r\n");
+    let unended = csv.trim_end().to_string();
+    for (name, text) in [
+        ("lf.csv", &csv),
+        ("crlf.csv", &crlf),
+        ("unended.csv", &unended),
+    ] {
+        std::fs::write(dir.path().join(name), text).unwrap();
+        for extra in [&[][..], &["--json"][..], &["--events-only"][..]] {
+            let mut args = vec![name, "--format", "csv"];
+            args.extend_from_slice(extra);
+            let file = monitor(dir.path(), &args, None);
+            args[0] = "-";
+            let stdin = monitor(dir.path(), &args, Some(text));
+            assert_eq!(file.code, 1, "{name} {extra:?}: {}", file.stderr);
+            assert!(file.stdout == stdin.stdout, "{name} {extra:?}");
+            assert_eq!((file.code, &file.stderr), (stdin.code, &stdin.stderr));
+        }
+    }
+}
