@@ -280,8 +280,8 @@ impl Monitor {
         Some(Estimate {
             speed,
             span,
-            positions: rounding(track.x, s.obstacle_x),
-            times: rounding(t0, t1),
+            xs: (track.x, s.obstacle_x),
+            ts: (t0, t1),
             noise: self.fast.noise,
         })
     }
@@ -295,10 +295,10 @@ pub(in crate::monitor) struct Estimate {
     speed: f64,
     /// Δt (s).
     span: f64,
-    /// The rounding error of x₀ − x₁ (m).
-    positions: f64,
-    /// The rounding error of Δt (s).
-    times: f64,
+    /// x₀ and x₁ (m): their rounding error is computed only when asked for.
+    xs: (f64, f64),
+    /// The times of the two observations (s), likewise.
+    ts: (f64, f64),
     /// 2σ_g (m).
     noise: f64,
 }
@@ -307,12 +307,24 @@ impl Estimate {
     /// What rounding and observation noise may add to the speed (m/s): never negative.
     #[inline]
     fn slack(&self) -> f64 {
-        (self.noise + self.positions + self.speed.abs() * self.times) / self.span
+        (self.noise + self.positions() + self.speed.abs() * self.times()) / self.span
+    }
+
+    /// The rounding error of x₀ − x₁ (m).
+    #[inline]
+    fn positions(&self) -> f64 {
+        rounding(self.xs.0, self.xs.1)
+    }
+
+    /// The rounding error of Δt (s).
+    #[inline]
+    fn times(&self) -> f64 {
+        rounding(self.ts.0, self.ts.1)
     }
 
     /// What rounding alone may add to the speed (m/s): never negative.
     #[inline]
     fn rounding(&self) -> f64 {
-        (self.positions + self.speed.abs() * self.times) / self.span
+        (self.positions() + self.speed.abs() * self.times()) / self.span
     }
 }
