@@ -41,10 +41,12 @@ impl SceneRadius {
     pub fn describe(&self) -> String {
         match self.value {
             Some(v) => {
-                let mut s = format!("safe radius {v:.6} m (certified");
+                // Nine decimals, as the single-obstacle radius: the bracket is 1e-6 wide, so
+                // six would print both of its ends alike.
+                let mut s = format!("safe radius {v:.9} m (certified");
                 if let Some(b) = &self.below {
                     s += &format!(
-                        "; at {:.6}: {}",
+                        "; at {:.9}: {}",
                         b.scene().controller.reaction_radius,
                         b.verdict().as_str()
                     );
