@@ -109,7 +109,8 @@
 //! - **Far observations**: an observation that every error shows beyond ρ is read by no
 //!   guard and no free-lane test, so it is shown exactly, and a hidden obstacle stays hidden
 //!   through it when the following observation (known for L ≥ 1) still shows a true gap
-//!   ≥ d_det — showing it then instead changes no step.
+//!   ≥ d_det — showing it then instead changes no step — and is shown when it does not
+//!   (with L = 0, where the following one is not known yet, both are explored).
 //!
 //! The keys then keep what the choices read: remembered gaps beyond max(ρ + σ_g, d_det) as
 //! "far" (every shown value is beyond ρ, and a hidden obstacle may still be shown there),

@@ -405,14 +405,13 @@ impl SceneModel {
             if !state.hidden[i] {
                 return vec![Look::exact()];
             }
-            let later = self
-                .following_observed_gap(w, i)
-                .zip(robot.d_det.as_ref())
-                .is_some_and(|(g, d)| g >= *d);
-            if later || !showable {
-                return vec![Look::Hidden];
-            }
-            return vec![Look::exact()];
+            return match self.following_observed_gap(w, i) {
+                Some(g) if robot.d_det.as_ref().is_some_and(|d| g >= *d) => vec![Look::Hidden],
+                _ if !showable => vec![Look::Hidden],
+                Some(_) => vec![Look::exact()],
+                // Latency 0: the following observation is not known yet, so both.
+                None => vec![Look::Hidden, Look::exact()],
+            };
         }
         let mut out = Vec::new();
         if state.hidden[i] {
