@@ -49,7 +49,7 @@ impl RequiredVerdict {
 pub fn run(args: CheckArgs, out: &mut Output) -> Result<Exit> {
     let path = &args.certificate;
     let text = input::certificate_text(path, Unreadable::Reading)?;
-    if super::region::is_map(&text) {
+    if safereach::proof::certificate_file::is_region_map(&text) {
         return super::region::check_file(path, &text, args.require.map(|r| r.verdict()), out);
     }
     let cert = CertificateFile::from_json(&text)

@@ -20,9 +20,11 @@
 //! With `--json`, only events (one JSON object per line: `t, obstacle_id, premise, observed,
 //! bound, action`, plus `unit, line, detail`) and a final `{"summary": …}` line are printed.
 //!
-//! The certificate is either kind: a single obstacle's, or a scene's, whose obstacles are
+//! The certificate is any kind: a single obstacle's, or a scene's, whose obstacles are
 //! matched to trace obstacle ids by name and checked against their own bounds and lanes
-//! (docs/monitor.md, "Scenes"); its summary adds the scene checks and obstacles.
+//! (docs/monitor.md, "Scenes"); its summary adds the scene checks and obstacles. A region
+//! map is monitored at the point of its (certified) box that asks least (`--leaf`, `--at`;
+//! docs/monitor.md, "Region maps").
 //!
 //! Exit codes: 0 every premise held, 1 a violation, 2 the certificate is unusable (unreadable,
 //! fails `check`, or not `certified`), bad arguments, or an I/O error.
@@ -34,12 +36,16 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
+use safereach::core::parameter::Parameter;
 use safereach::core::show::value;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Line, Lines, MAX_LINE};
 use safereach::monitor::{
     Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
-    SceneSummary, Status, Summary, Verdict,
+    RegionPoint, SceneSummary, Status, Summary, Verdict,
 };
+use safereach::proof::certificate_file::{CertificateFile, is_region_map};
+use safereach::proof::json_read::from_json;
+use safereach::proof::region_map::RegionMap;
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -49,8 +55,8 @@ use super::output::Output;
 /// Arguments of `safereach monitor`.
 #[derive(clap::Args)]
 pub struct MonitorArgs {
-    /// Certificate (JSON, as written by `certify --out`; a single obstacle's or a scene's)
-    /// whose premises are checked.
+    /// Certificate whose premises are checked (JSON, as written by `certify --out`: a single
+    /// obstacle's or a scene's), or a region map (`region --out`).
     #[arg(long, value_name = "CERT")]
     certificate: PathBuf,
     /// Trace to check: a CSV or JSON Lines file, or `-` for standard input (live).
@@ -69,6 +75,59 @@ pub struct MonitorArgs {
     /// Print only violation events and the summary, no verdict line per sample.
     #[arg(long)]
     events_only: bool,
+    /// With a region map as CERT: monitor against this certified leaf (its `path` in the
+    /// map) instead of the whole box, which must otherwise be certified.
+    #[arg(long, value_name = "PATH")]
+    leaf: Option<String>,
+    /// With a region map as CERT: the value the robot's controller uses for a ranged
+    /// controller key (controller.reaction_radius, controller.assumed_obstacle_speed,
+    /// controller.buffer); repeatable. Unnamed, ρ and the buffer take the box's lower ends.
+    #[arg(long = "at", value_name = "KEY=VALUE")]
+    at: Vec<String>,
+}
+
+/// The monitor of `--certificate`: a certificate of any kind, or a region map with the box
+/// and controller `--leaf` and `--at` choose.
+fn certificate_monitor(args: &MonitorArgs) -> Result<Monitor> {
+    let path = &args.certificate;
+    let text = input::certificate_text(path, Unreadable::CannotRead)?;
+    let unusable = || format!("{}: certificate unusable", path.display());
+    if !is_region_map(&text) {
+        if args.leaf.is_some() || !args.at.is_empty() {
+            anyhow::bail!(
+                "--leaf and --at choose a box of a region map; {} is a certificate",
+                path.display()
+            );
+        }
+        let cert = CertificateFile::from_json(&text)
+            .with_context(|| format!("{}: not a safereach certificate", path.display()))?;
+        return Monitor::for_certificate_file(&cert).with_context(unusable);
+    }
+    let map: RegionMap = from_json(&text)
+        .with_context(|| format!("{}: not a safereach region map", path.display()))?;
+    let controller = args
+        .at
+        .iter()
+        .map(|pair| controller_value(pair).map_err(|why| anyhow::anyhow!("--at {pair:?}: {why}")))
+        .collect::<Result<Vec<_>>>()?;
+    let at = RegionPoint {
+        leaf: args.leaf.clone(),
+        controller,
+    };
+    Monitor::for_region(&map, &at).with_context(unusable)
+}
+
+/// One `--at KEY=VALUE`.
+fn controller_value(pair: &str) -> Result<(Parameter, f64), String> {
+    let (key, value) = pair
+        .split_once('=')
+        .ok_or("expected KEY=VALUE, e.g. controller.reaction_radius=1.4")?;
+    let parameter = Parameter::from_key(key.trim())
+        .ok_or_else(|| format!("{key:?} is not a parameter a region map can range"))?;
+    match value.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok((parameter, v)),
+        _ => Err(format!("{value:?} is not a finite number")),
+    }
 }
 
 /// `--format`.
@@ -95,9 +154,7 @@ impl Session {
     /// Reads the certificate (it must pass `check` and be `certified`), parses `--columns`,
     /// settles the format and opens the trace, in that order.
     fn new(args: &MonitorArgs) -> Result<Session> {
-        let cert = input::any_certificate(&args.certificate, Unreadable::CannotRead)?;
-        let monitor = Monitor::for_certificate_file(&cert)
-            .with_context(|| format!("{}: certificate unusable", args.certificate.display()))?;
+        let monitor = certificate_monitor(args)?;
         let columns = args
             .columns
             .as_deref()

@@ -260,13 +260,3 @@ pub fn check_file(
         }
     }
 }
-
-/// Whether certificate text is a region map (by its format tag).
-pub fn is_map(text: &str) -> bool {
-    #[derive(serde::Deserialize)]
-    struct Tag {
-        format: String,
-    }
-    serde_json::from_str::<Tag>(text)
-        .is_ok_and(|t| t.format == safereach::proof::region_map::FORMAT)
-}

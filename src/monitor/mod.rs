@@ -157,6 +157,7 @@ mod check;
 mod event;
 mod field;
 mod lanes;
+mod region;
 mod scene;
 mod summary;
 pub mod trace;
@@ -167,6 +168,7 @@ use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
 pub use lanes::Lanes;
+pub use region::RegionPoint;
 use scene::SceneAssumptions;
 pub use summary::{
     CertifiedObstacleSummary, CheckSummary, FailSafeSummary, Margin, PremiseSummary,
@@ -269,6 +271,10 @@ pub enum MonitorError {
         /// Its bound.
         bound: f64,
     },
+    /// A region map cannot be monitored as asked (no certified box chosen, or a controller
+    /// value missing or outside the box).
+    #[error("{0}")]
+    Region(String),
 }
 
 /// Refuses a verdict other than `certified`: its premises holding would guarantee nothing.

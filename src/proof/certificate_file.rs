@@ -41,6 +41,14 @@ struct Tag {
     format: String,
 }
 
+/// Whether `text` is a region map (`safereach region --out`, tag
+/// [`region_map::FORMAT`](crate::proof::region_map::FORMAT)), which [`CertificateFile`] does
+/// not read: `check` and `monitor` read it as a
+/// [`RegionMap`](crate::proof::region_map::RegionMap).
+pub fn is_region_map(text: &str) -> bool {
+    from_json::<Tag>(text).is_ok_and(|t| t.format == crate::proof::region_map::FORMAT)
+}
+
 impl CertificateFile {
     /// Parses certificate JSON of either kind (strictly: unknown fields are refused, and a
     /// certificate of an earlier format is named as such).

@@ -25,6 +25,7 @@ mod fuzz_properties;
 mod monitor;
 mod monitor_cli;
 mod monitor_real;
+mod monitor_region;
 mod monitor_scene;
 mod noise;
 mod pinning;

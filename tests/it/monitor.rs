@@ -15,12 +15,10 @@ use safereach::core::output::{trace_csv, trace_jsonl};
 use safereach::core::semantics::Mode;
 use safereach::core::simulate::{self, TraceRow};
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, parse_f64};
-use safereach::monitor::{
-    Check, Detail, Event, Field, Monitor, MonitorError, Sample, Status, Verdict,
-};
+use safereach::monitor::{Check, Detail, Field, Monitor, MonitorError, Sample, Status, Verdict};
 use safereach::proof::certificate::Certificate;
 
-use crate::common::monitoring::text_events;
+use crate::common::monitoring::{sample_events, samples_of, text_events};
 use crate::common::paths::load_problem;
 
 // ------------------------------------------------------------------------------------------
@@ -95,38 +93,6 @@ fn random_rows(params: &Params<f64>, seed: u64, i: usize) -> Vec<TraceRow> {
     )
 }
 
-/// The trace's samples for obstacle 0; `obstacle_v` (the speed over the period ending at
-/// `t`) only `with_speed`.
-fn samples(rows: &[TraceRow], with_speed: bool) -> Vec<Sample> {
-    let mut previous = 0.0;
-    rows.iter()
-        .map(|r| {
-            let s = Sample {
-                t: r.t,
-                robot_x: r.robot_position,
-                robot_v: r.robot_speed,
-                robot_mode: Some(r.robot_mode),
-                obstacle_id: 0,
-                obstacle_x: r.obstacle_position,
-                obstacle_v: with_speed.then_some(previous),
-                obstacle_t: None,
-            };
-            previous = r.obstacle_speed;
-            s
-        })
-        .collect()
-}
-
-/// Every event of feeding `samples`.
-fn events(monitor: &mut Monitor, samples: &[Sample]) -> Vec<Event> {
-    let mut all = Vec::new();
-    for s in samples {
-        let o = monitor.observe(s);
-        all.extend_from_slice(o.events);
-    }
-    all
-}
-
 // ------------------------------------------------------------------------------------------
 // Simulator and monitor close the loop
 // ------------------------------------------------------------------------------------------
@@ -181,8 +147,8 @@ fn simulations_within_the_premises_never_raise_a_violation() {
         for (what, rows) in &all {
             for with_speed in [true, false] {
                 let mut m = fresh.clone();
-                let s = samples(rows, with_speed);
-                let e = events(&mut m, &s);
+                let s = samples_of(rows, with_speed);
+                let e = sample_events(&mut m, &s);
                 assert!(
                     e.is_empty(),
                     "{} {what} (obstacle_v given: {with_speed}): {:?}",
@@ -237,7 +203,7 @@ fn an_obstacle_faster_than_certified_is_flagged_at_the_first_sample_that_shows_i
         let expected = first_fast_sample(&rows, 0.2);
         for with_speed in [true, false] {
             let mut m = fresh.clone();
-            let e = events(&mut m, &samples(&rows, with_speed));
+            let e = sample_events(&mut m, &samples_of(&rows, with_speed));
             let Some(k) = expected else {
                 assert!(e.is_empty(), "run {i}: {:?}", e.first());
                 continue;

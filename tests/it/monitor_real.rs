@@ -18,6 +18,7 @@ use safereach::monitor::{Check, Event, Lanes, Monitor, RobotSample, Sample, Verd
 use safereach::proof::certificate::Certificate;
 use safereach::proof::premise::{Premise, PremiseKind};
 
+use crate::common::monitoring::{sample_events, samples_of};
 use crate::common::paths::fixture;
 
 /// The seed's certificate (W = 0.15, ρ = 1.4, latency 1, rule `paper`).
@@ -29,34 +30,6 @@ fn seed_certificate() -> Certificate {
 /// The certified worst-case replay: the witness's rows.
 fn worst_case(cert: &Certificate) -> Vec<TraceRow> {
     cert.witness.as_ref().expect("a witness").steps.clone()
-}
-
-/// The rows as samples of obstacle 0, `obstacle_v` the speed over the period ending at `t`.
-fn samples(rows: &[TraceRow]) -> Vec<Sample> {
-    let mut previous = 0.0;
-    rows.iter()
-        .map(|r| {
-            let s = Sample {
-                t: r.t,
-                robot_x: r.robot_position,
-                robot_v: r.robot_speed,
-                robot_mode: Some(r.robot_mode),
-                obstacle_id: 0,
-                obstacle_x: r.obstacle_position,
-                obstacle_v: Some(previous),
-                obstacle_t: None,
-            };
-            previous = r.obstacle_speed;
-            s
-        })
-        .collect()
-}
-
-fn events(m: &mut Monitor, samples: &[Sample]) -> Vec<Event> {
-    samples
-        .iter()
-        .flat_map(|s| m.observe(s).events.to_vec())
-        .collect()
 }
 
 /// The seed certificate's premises with observation noise σ_g and speed noise σ_w.
@@ -100,7 +73,7 @@ fn with_noise(samples: &[Sample], gap: f64, speed: f64, seed: u64) -> Vec<Sample
 #[test]
 fn noise_within_sigma_raises_nothing_and_without_sigma_it_does() {
     let cert = seed_certificate();
-    let clean = samples(&worst_case(&cert));
+    let clean = samples_of(&worst_case(&cert), true);
     let (gap, speed) = (0.002, 0.01);
     let premises = noisy_premises(&cert, gap, speed);
     let mut problem = cert.problem.clone();
@@ -115,14 +88,14 @@ fn noise_within_sigma_raises_nothing_and_without_sigma_it_does() {
     for seed in 0..2000 {
         let noisy = with_noise(&clean, gap, speed, seed);
         let mut by_proof = Monitor::new(&proved).unwrap();
-        let got = events(&mut by_proof, &noisy);
+        let got = sample_events(&mut by_proof, &noisy);
         assert!(got.is_empty(), "run {seed}, noisy certificate: {got:?}");
         let mut m = Monitor::for_premises(&cert.problem, &premises).unwrap();
-        let got = events(&mut m, &noisy);
+        let got = sample_events(&mut m, &noisy);
         assert!(got.is_empty(), "run {seed}: {got:?}");
         assert_eq!(m.summary().verdict, Verdict::Held);
         let mut exact = Monitor::new(&cert).unwrap();
-        let got = events(&mut exact, &noisy);
+        let got = sample_events(&mut exact, &noisy);
         if !got.is_empty() {
             raised_without_sigma += 1;
             // Speeds from noisy positions; (near ρ) noise can also make the robot look late.
@@ -186,7 +159,7 @@ fn a_collision_is_raised_at_exactly_the_moving_samples_within_clearance() {
         .position(|r| r.robot_mode == Mode::Brake)
         .unwrap();
     // From the brake on, the robot drives on at the speed it had, 0.02 m per period.
-    let mut crash = samples(&rows[..braked]);
+    let mut crash = samples_of(&rows[..braked], true);
     let last = crash.last().copied().unwrap();
     let mut x = last.robot_x;
     let mut obstacle = last.obstacle_x;
@@ -208,7 +181,7 @@ fn a_collision_is_raised_at_exactly_the_moving_samples_within_clearance() {
         .collect();
     assert!(!expected.is_empty());
     let mut m = Monitor::new(&cert).unwrap();
-    let got = events(&mut m, &crash);
+    let got = sample_events(&mut m, &crash);
     let collisions: Vec<f64> = got
         .iter()
         .filter(|e| e.check == Check::Collision)
@@ -236,7 +209,7 @@ fn a_controller_that_ignores_danger_is_flagged_at_the_instant_it_should_have_bra
         .iter()
         .position(|r| r.robot_mode == Mode::Brake)
         .unwrap();
-    let mut trace = samples(&rows);
+    let mut trace = samples_of(&rows, true);
     let v = trace[braked - 1].robot_v;
     for (k, s) in trace.iter_mut().enumerate().skip(braked) {
         s.robot_mode = Some(Mode::Drive);
@@ -244,7 +217,7 @@ fn a_controller_that_ignores_danger_is_flagged_at_the_instant_it_should_have_bra
         s.robot_x = trace_x(&rows, braked, k, v);
     }
     let mut m = Monitor::new(&cert).unwrap();
-    let got = events(&mut m, &trace);
+    let got = sample_events(&mut m, &trace);
     let first = got
         .iter()
         .find(|e| e.check == Check::ControllerReaction)
@@ -258,7 +231,7 @@ fn a_controller_that_ignores_danger_is_flagged_at_the_instant_it_should_have_bra
     );
     // The replay as certified raises nothing.
     let mut m = Monitor::new(&cert).unwrap();
-    assert!(events(&mut m, &samples(&rows)).is_empty());
+    assert!(sample_events(&mut m, &samples_of(&rows, true)).is_empty());
 }
 
 /// The robot's position when it holds speed `v` from row `from` on.
@@ -320,7 +293,7 @@ fn robot_only_instants_and_dropouts_inside_the_area() {
     let cert = seed_certificate();
     let rows = worst_case(&cert);
     let rho = cert.problem.controller.reaction_radius;
-    let all = samples(&rows);
+    let all = samples_of(&rows, true);
     let outside = |s: &Sample| s.obstacle_x - s.robot_x > rho;
     let mut m = Monitor::new(&cert).unwrap();
     let mut dropped = 0;
@@ -418,9 +391,9 @@ fn reappearing_after_a_dropout_within_and_beyond_reach() {
 #[test]
 fn margins_are_the_smallest_slack_and_where() {
     let cert = seed_certificate();
-    let trace = samples(&worst_case(&cert));
+    let trace = samples_of(&worst_case(&cert), true);
     let mut m = Monitor::new(&cert).unwrap();
-    events(&mut m, &trace);
+    sample_events(&mut m, &trace);
     let w = cert.problem.environment.obstacle_speed;
     let fastest = trace
         .iter()

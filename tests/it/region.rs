@@ -16,7 +16,7 @@ use safereach::core::parameter::Parameter;
 use safereach::proof::region_check::check_map;
 use safereach::proof::region_map::{LeafVerdict, RegionMap};
 
-use crate::common::cli::{safereach, stdout};
+use crate::common::cli::{safereach, seed_box_region, stdout};
 use crate::common::paths::{load_problem, seed_file};
 use crate::common::tmp;
 
@@ -325,19 +325,7 @@ fn tampered_maps_are_rejected() {
 #[test]
 fn the_command_line_certifies_a_box_maps_and_checks() {
     let dir = tmp();
-    let out = safereach(dir.path())
-        .args(["region"])
-        .arg(seed_file())
-        .args([
-            "--range",
-            "environment.obstacle_speed=0.10..0.20",
-            "--range",
-            "controller.reaction_radius=1.3..1.6",
-        ])
-        .assert()
-        .code(0)
-        .get_output()
-        .clone();
+    let out = seed_box_region(dir.path(), &[]);
     assert!(
         stdout(&out).contains("certified for every point of the box"),
         "{}",

@@ -14,6 +14,25 @@ pub fn safereach(dir: &Path) -> Command {
     cmd
 }
 
+/// `safereach region` on the seed over the box of issue 11's first example, W ∈ [0.10, 0.20]
+/// × ρ ∈ [1.3, 1.6] (certified whole), with `args` added; exit 0 asserted.
+pub fn seed_box_region(dir: &Path, args: &[&str]) -> Output {
+    safereach(dir)
+        .arg("region")
+        .arg(super::paths::seed_file())
+        .args([
+            "--range",
+            "environment.obstacle_speed=0.10..0.20",
+            "--range",
+            "controller.reaction_radius=1.3..1.6",
+        ])
+        .args(args)
+        .assert()
+        .code(0)
+        .get_output()
+        .clone()
+}
+
 /// The names of the files in `dir`.
 pub fn files(dir: &Path) -> BTreeSet<String> {
     std::fs::read_dir(dir)
