@@ -8,6 +8,7 @@ mod monte_carlo;
 pub mod radius;
 pub mod region;
 pub mod region_search;
+pub mod region_statement;
 pub mod report;
 pub mod scene;
 pub mod scene_answer;

@@ -10,7 +10,7 @@ use safereach::core::budget::{Budget, Work};
 use safereach::analysis::radius;
 use safereach::core::scene::Scene;
 
-use super::boundary::{answer, certificate_text};
+use super::boundary::{answer, certificate_text, region_at};
 use super::exit::Exit;
 use super::input::{self, Input};
 use super::output::{Output, write_file};
@@ -29,6 +29,13 @@ pub struct MaxSpeedArgs {
     /// Write the certificate just below the largest certified speed to this file.
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
+    /// Also prove a region statement: certified for every W ≤ the largest certified speed
+    /// at every ρ ≥ the problem's (one region map; exit 3 when it is not established).
+    #[arg(long)]
+    region: bool,
+    /// With `--region`: write the statement's region map to this file.
+    #[arg(long, value_name = "FILE", requires = "region")]
+    region_out: Option<PathBuf>,
     /// Budget: the most control periods the search may analyse in all, each analysis
     /// counting its problem's horizon (default 20,000,000).
     #[arg(long, value_name = "N")]
@@ -43,6 +50,7 @@ pub struct MaxSpeedArgs {
 pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
     let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
         Input::Problem(p) => p,
+        Input::Scene(_) if args.region => anyhow::bail!(super::radius::NO_SCENE_REGION),
         Input::Scene(scene) => return scene_max_speed(&scene, &args, out),
     };
     if args.obstacle.is_some() {
@@ -56,16 +64,21 @@ pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
     if let (Some(path), Some(a)) = (&args.out, &b.certified) {
         write_file(path, certificate_text(a)?.as_bytes())?;
     }
+    let region = args.region.then(|| region_at(&b)).flatten();
+    if let (Some(path), Some((_, Some(map)))) = (&args.region_out, &region) {
+        write_file(path, (serde_json::to_string(map)? + "\n").as_bytes())?;
+    }
+    let holds = region.as_ref().is_none_or(|(s, _)| s.holds());
     if args.json {
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(&answer(&problem, &b))?
-        )?;
+        let a = answer(&problem, &b).with_region(region.map(|(s, _)| s));
+        writeln!(out, "{}", serde_json::to_string_pretty(&a)?)?;
     } else {
         writeln!(out, "{}", b.describe(&problem))?;
+        if let Some((statement, _)) = &region {
+            writeln!(out, "  region: {}", statement.text())?;
+        }
     }
-    Ok(Exit::fail_if(b.value.is_none()))
+    Ok(super::radius::region_exit(b.value.is_some(), holds))
 }
 
 /// `max-speed` on a scene: the largest bound of every moving obstacle (or the named one)

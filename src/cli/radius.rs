@@ -11,10 +11,14 @@ use safereach::core::budget::{Budget, Work};
 use safereach::analysis::radius;
 use safereach::core::scene::Scene;
 
-use super::boundary::{answer, certificate_text};
+use super::boundary::{answer, certificate_text, region_at};
 use super::exit::Exit;
 use super::input::{self, Input};
 use super::output::{Output, create_dir, write_file};
+
+/// Why `--region` refuses a scene.
+pub(super) const NO_SCENE_REGION: &str = "--region: region statements need region certificates, which cover single-obstacle \
+     problems, not scenes, so far";
 
 /// Arguments of `safereach radius`.
 #[derive(clap::Args)]
@@ -31,9 +35,14 @@ pub struct RadiusArgs {
     /// Print JSON.
     #[arg(long)]
     json: bool,
-    /// Write the certificate just above each safe radius into this directory.
+    /// Write the certificate just above each safe radius into this directory (and, with
+    /// `--region`, each statement's map).
     #[arg(long, value_name = "DIR")]
     certificates: Option<PathBuf>,
+    /// Also prove a region statement per speed: certified for every W ≤ W0 at every
+    /// ρ ≥ the safe radius (one region map; exit 3 when one is not established).
+    #[arg(long)]
+    region: bool,
     /// Budget: the most control periods the search may analyse in all, each analysis
     /// counting its problem's horizon (default 20,000,000).
     #[arg(long, value_name = "N")]
@@ -49,6 +58,7 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
     let speeds = speed_list(&args.speeds)?;
     let base = match input::problem_or_scene(&args.problem, &args.sets)? {
         Input::Problem(p) => p,
+        Input::Scene(_) if args.region => anyhow::bail!(NO_SCENE_REGION),
         Input::Scene(scene) => return scene_radius(&scene, &args, &speeds, out),
     };
     if args.obstacle.is_some() {
@@ -61,6 +71,7 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
     };
     let mut answers = Vec::new();
     let mut all = true;
+    let mut every_region = true;
     for &w in &speeds {
         let mut problem = base.clone();
         problem.environment.obstacle_speed = w;
@@ -81,7 +92,22 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
         if !args.json {
             writeln!(out, "{}", b.describe(&problem))?;
         }
-        answers.push(answer(&problem, &b));
+        let region = args.region.then(|| region_at(&b)).flatten();
+        if let Some((statement, map)) = &region {
+            every_region &= statement.holds();
+            if !args.json {
+                writeln!(out, "  region: {}", statement.text())?;
+            }
+            if let (Some(dir), Some(map)) = (&args.certificates, map) {
+                create_dir(dir)?;
+                let text = serde_json::to_string(map)? + "\n";
+                write_file(
+                    &dir.join(format!("radius-W{w}.region.json")),
+                    text.as_bytes(),
+                )?;
+            }
+        }
+        answers.push(answer(&problem, &b).with_region(region.map(|(s, _)| s)));
     }
     if args.json {
         if args.speeds.is_empty() {
@@ -90,7 +116,17 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
             writeln!(out, "{}", serde_json::to_string_pretty(&answers)?)?;
         }
     }
-    Ok(Exit::fail_if(!all))
+    Ok(region_exit(all, every_region))
+}
+
+/// `radius`/`max-speed` exit: 1 when a point answer is missing, else 3 when a region
+/// statement asked for was not established, else 0.
+pub(super) fn region_exit(answered: bool, every_region: bool) -> Exit {
+    match (answered, every_region) {
+        (false, _) => Exit::Fail,
+        (true, false) => Exit::Inconclusive,
+        (true, true) => Exit::Pass,
+    }
 }
 
 /// The speeds of every `--speeds` list, in order: each element a finite number (an empty

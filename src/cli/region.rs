@@ -173,10 +173,14 @@ fn describe(out: &mut Output, map: &RegionMap, whole: &ParamBox) -> Result<()> {
             .fold(f64::INFINITY, f64::min);
         writeln!(
             out,
-            "certified for every point of the box ({} leaf{}): s* >= {} m everywhere \
+            "certified for every point of the box ({} {}): s* >= {} m everywhere \
              (clearance {} m)",
             map.leaves.len(),
-            if map.leaves.len() == 1 { "" } else { "s" },
+            if map.leaves.len() == 1 {
+                "leaf"
+            } else {
+                "leaves"
+            },
             show::down(least, 6),
             show::value(map.problem.robot.clearance)
         )?;

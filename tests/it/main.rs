@@ -31,6 +31,7 @@ mod noise;
 mod pinning;
 mod radius;
 mod region;
+mod region_statement;
 mod report_slices;
 mod scene_analysis;
 mod scene_cli;
