@@ -652,10 +652,43 @@ impl Monitor {
     /// obstacle id), no panic. The sample states no lanes; see [`Monitor::observe_in_lanes`].
     pub fn observe(&mut self, s: &Sample) -> Outcome<'_> {
         if self.scene.is_some() {
-            self.observe_with::<true>(s, Lanes::UNKNOWN)
+            self.observe_with::<true>(s, Lanes::UNKNOWN);
         } else {
-            self.observe_with::<false>(s, Lanes::UNKNOWN)
+            self.observe_with::<false>(s, Lanes::UNKNOWN);
         }
+        self.outcome()
+    }
+
+    /// Checks `samples` in order, exactly as [`Monitor::observe`] one at a time would, and
+    /// calls `on_event(i, event)` for each event that `samples[i]` raised. Returns the
+    /// verdict after the last sample. For a robot that logs or receives its samples in
+    /// blocks (a bag, a message with several detections): the per-call work — the choice
+    /// between a scene's and a single obstacle's checks, the return of an [`Outcome`] — is
+    /// done once per block, not per sample. No I/O, no allocation, no panic, as `observe`.
+    pub fn observe_all(
+        &mut self,
+        samples: &[Sample],
+        on_event: impl FnMut(usize, &Event),
+    ) -> Verdict {
+        if self.scene.is_some() {
+            self.observe_all_with::<true>(samples, on_event)
+        } else {
+            self.observe_all_with::<false>(samples, on_event)
+        }
+    }
+
+    fn observe_all_with<const SCENE: bool>(
+        &mut self,
+        samples: &[Sample],
+        mut on_event: impl FnMut(usize, &Event),
+    ) -> Verdict {
+        for (i, s) in samples.iter().enumerate() {
+            self.observe_with::<SCENE>(s, Lanes::UNKNOWN);
+            for event in &self.events[..self.n_events] {
+                on_event(i, event);
+            }
+        }
+        self.verdict()
     }
 
     /// [`Monitor::observe`] for a sample of a scene trace, which states `lanes`: the robot's
@@ -665,27 +698,28 @@ impl Monitor {
     /// ignores them.
     pub fn observe_in_lanes(&mut self, s: &Sample, lanes: Lanes) -> Outcome<'_> {
         if self.scene.is_some() {
-            self.observe_with::<true>(s, lanes)
+            self.observe_with::<true>(s, lanes);
         } else {
-            self.observe_with::<false>(s, lanes)
+            self.observe_with::<false>(s, lanes);
         }
+        self.outcome()
     }
 
     /// The body of [`Monitor::observe`] and [`Monitor::observe_in_lanes`], in two copies: a
     /// scene certificate's (`SCENE`), and a single obstacle's, which runs exactly the checks
     /// it ran before scenes existed and pays nothing for them.
     #[inline(always)]
-    fn observe_with<const SCENE: bool>(&mut self, s: &Sample, lanes: Lanes) -> Outcome<'_> {
+    fn observe_with<const SCENE: bool>(&mut self, s: &Sample, lanes: Lanes) {
         self.n_events = 0;
         self.samples += 1;
         // Fail safe: reject what cannot be trusted, before it touches any state.
         let Some(track) = self.admit(s) else {
-            return self.outcome();
+            return;
         };
         match self.robot {
             Some(r) if s.t <= r.t => {
                 if !self.join_instant::<SCENE>(s, lanes, r, Some(&track)) {
-                    return self.outcome();
+                    return;
                 }
             }
             previous => self.start_instant::<SCENE>(previous, s, lanes),
@@ -693,7 +727,6 @@ impl Monitor {
         self.accepted += 1;
         self.carried.mode |= s.robot_mode.is_some();
         self.check_obstacle::<SCENE>(s, lanes, &track);
-        self.outcome()
     }
 
     /// Checks a robot-only sample: an instant at which no obstacle was observed. It counts

@@ -584,6 +584,87 @@ fn interleaved_obstacles_are_tracked_separately() {
     assert_eq!(o.events[0].obstacle_id, Some(7));
 }
 
+/// Samples of two interleaved obstacles from a seed run at W = 0.25 m/s (over the certified
+/// 0.15), with fail-safe cases mixed in: a non-finite position, time going backwards, an
+/// obstacle twice at one instant, an id beyond the table.
+fn mixed_samples(i: usize) -> Vec<Sample> {
+    let fast = floats(&load_problem(
+        "seed.toml",
+        &["environment.obstacle_speed=0.25"],
+    ));
+    let rows = random_rows(&fast, 3, i);
+    let mut out = Vec::new();
+    for (k, s) in samples_of(&rows, i.is_multiple_of(2))
+        .into_iter()
+        .enumerate()
+    {
+        out.push(s);
+        out.push(Sample {
+            obstacle_id: 1,
+            obstacle_x: s.obstacle_x + 2.0,
+            ..s
+        });
+        match k % 41 {
+            7 => out.push(Sample {
+                obstacle_x: f64::NAN,
+                ..s
+            }),
+            13 => out.push(Sample { t: s.t - 0.05, ..s }),
+            19 => out.push(s),
+            29 => out.push(Sample {
+                obstacle_id: 9,
+                ..s
+            }),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// `observe_all` is `observe` one sample at a time: the same events from the same samples,
+/// the same verdict and summary, under a single-obstacle and a scene certificate.
+#[test]
+fn observing_a_block_is_observing_its_samples_one_by_one() {
+    let scene = safereach::core::scene::Scene::load(&crate::common::paths::problem_file(
+        "scene-oncoming.toml",
+    ))
+    .expect("scene loads");
+    let scene_cert = safereach::proof::scene_certificate::SceneCertificate::from_analysis(
+        &safereach::analysis::scene::analyse_scene(&scene).expect("analysed"),
+    );
+    let fresh = [
+        Monitor::with_max_obstacles(&certified(&load_problem("seed.toml", &[])), 4).unwrap(),
+        {
+            // Ids matched to the scene's obstacles, so that their own bounds apply.
+            let mut m = Monitor::for_scene(&scene_cert).expect("a certified scene");
+            for (id, o) in scene.obstacles.iter().take(2).enumerate() {
+                m.identify(id as u32, &o.name);
+            }
+            m
+        },
+    ];
+    for i in 0..8 {
+        let samples = mixed_samples(i);
+        for (j, m) in fresh.iter().enumerate() {
+            let mut one = m.clone();
+            let mut expected = Vec::new();
+            for (k, s) in samples.iter().enumerate() {
+                expected.extend(one.observe(s).events.iter().map(|e| (k, *e)));
+            }
+            let mut block = m.clone();
+            let mut got = Vec::new();
+            let verdict = block.observe_all(&samples, |k, e| got.push((k, *e)));
+            assert!(expected.len() > 4, "run {i}: the trace breaks premises");
+            // The first difference, rather than two long lists.
+            let differ = got.iter().zip(&expected).position(|(a, b)| a != b);
+            assert_eq!(differ, None, "run {i}, monitor {j}: events differ");
+            assert_eq!(got.len(), expected.len(), "run {i}, monitor {j}");
+            assert_eq!(verdict, one.verdict());
+            assert_eq!(block.summary(), one.summary(), "run {i}, monitor {j}");
+        }
+    }
+}
+
 // ------------------------------------------------------------------------------------------
 // Fail safe: each case named, reported, and the monitor goes on
 // ------------------------------------------------------------------------------------------
