@@ -192,15 +192,14 @@ impl Monitor {
         let allowed = self.bounds.speed_noise + self.noise_over(estimate.span);
         let differ = (v - estimate.speed).abs();
         self.count_with_slack(Check::ObservationInconsistent, allowed - differ, s.t);
-        // The tolerance is the estimate's rounding (never negative, and a division) plus a
-        // relative part: a difference within `allowed` and the relative part is within it.
+        // The tolerance is the estimate's rounding plus a relative part. Computed for every
+        // sample: far from the origin the rounding is comparable to the relative part, and a
+        // test of the relative part first went either way at random (a mispredicted branch
+        // costs more than the division).
         let relative = RELATIVE_TOLERANCE * v.abs().max(estimate.speed.abs());
-        if differ > allowed + relative {
-            let tolerance = estimate.rounding() + relative;
-            if differ > allowed + tolerance {
-                let violation = Violation::at(Check::ObservationInconsistent, s);
-                self.raise(violation.observed(differ).bound(allowed));
-            }
+        if differ > allowed + (estimate.rounding() + relative) {
+            let violation = Violation::at(Check::ObservationInconsistent, s);
+            self.raise(violation.observed(differ).bound(allowed));
         }
     }
 
