@@ -15,4 +15,5 @@ pub mod shard;
 pub mod show;
 pub mod simulate;
 pub mod sweep_provenance;
+pub mod template;
 pub mod text_file;
