@@ -14,10 +14,12 @@ use clap::{Parser, Subcommand};
 mod boundary;
 mod certify;
 mod check;
+mod completions;
 mod exit;
 mod explore;
 mod explore_scene;
 mod export_uppaal;
+mod init;
 mod input;
 mod interrupt;
 mod max_speed;
@@ -43,7 +45,7 @@ use output::Output;
     version,
     about = "Certify or refute passive safety of a mobile robot against oncoming obstacles"
 )]
-struct Cli {
+pub(crate) struct Cli {
     #[command(subcommand)]
     command: Command,
 }
@@ -74,6 +76,12 @@ enum Command {
     Explore(explore::ExploreArgs),
     /// Export the finite model as UPPAAL timed automata (XML) plus the safety query (.q).
     ExportUppaal(export_uppaal::ExportUppaalArgs),
+    /// Write a commented problem template (every key, its unit and default) that certifies as written.
+    Init(init::InitArgs),
+    /// Print the shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(completions::CompletionsArgs),
+    /// Print the man page (roff), or write one per subcommand with --out DIR.
+    Man(completions::ManArgs),
 }
 
 /// Parses the command line, runs the subcommand and returns its exit status; an error is
@@ -110,5 +118,8 @@ fn run(command: Command, out: &mut Output) -> anyhow::Result<Exit> {
         Command::Monitor(args) => monitor::run(args, out),
         Command::Explore(args) => explore::run(args, out),
         Command::ExportUppaal(args) => export_uppaal::run(args, out),
+        Command::Init(args) => init::run(args, out),
+        Command::Completions(args) => completions::run_completions(args, out),
+        Command::Man(args) => completions::run_man(args, out),
     }
 }

@@ -22,6 +22,7 @@ mod fuzz_findings;
 /// The fuzz targets' properties (fuzz/src/), shared with [`fuzz_findings`].
 #[path = "../../fuzz/src/lib.rs"]
 mod fuzz_properties;
+mod init_cli;
 mod monitor;
 mod monitor_cli;
 mod monitor_real;
