@@ -14,6 +14,7 @@ use crate::core::simulate::{Run, horizon, run, run_hiding_late};
 
 /// Monte Carlo summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct MonteCarlo {
     /// Runs simulated.
     pub runs: usize,

@@ -38,6 +38,7 @@ pub const PROBE_OFFSET: f64 = 1e-6;
 
 /// Which parameter a search moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Parameter {
     /// `controller.reaction_radius` (certified above the boundary).

@@ -23,6 +23,7 @@ use crate::core::semantics::Observation;
 
 /// How an obstacle picks its speed each period in a random run (W = its bound W_i).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum SpeedPattern {
     /// Uniform in (0, W] each period, independently (the single-obstacle Monte Carlo's).
@@ -249,6 +250,7 @@ pub fn scene_monte_carlo_run(
 
 /// One obstacle's share of a Monte Carlo summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct ObstacleMonteCarlo {
     /// Its name.
     pub name: String,
@@ -260,6 +262,7 @@ pub struct ObstacleMonteCarlo {
 
 /// Monte Carlo summary of a scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SceneMonteCarlo {
     /// Runs simulated.
     pub runs: usize,

@@ -12,6 +12,7 @@ use crate::proof::search_certificate::SearchCertificate;
 
 /// Why the robot braked in a scene's worst case.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum BrakeCause {
     /// On collision danger from the worst-case obstacle itself.
@@ -128,6 +129,7 @@ fn brake_tag(brake: Option<BrakeReason>) -> &'static str {
 /// A scene's worst case: the obstacle whose separation is s*, its lane, and why the robot
 /// braked.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SceneWorstCase {
     /// The obstacle's index in the scene.

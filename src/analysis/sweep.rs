@@ -42,6 +42,7 @@ use crate::core::sweep_provenance::SweepProvenance;
 
 /// The result of one cell.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct CellResult {
     /// Cell number.
     pub cell: usize,

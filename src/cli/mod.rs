@@ -31,6 +31,7 @@ mod region;
 mod report;
 mod scene_certify;
 mod scene_simulate;
+mod schema;
 mod search_summary;
 mod simulate;
 mod sweep;
@@ -82,6 +83,8 @@ enum Command {
     Completions(completions::CompletionsArgs),
     /// Print the man page (roff), or write one per subcommand with --out DIR.
     Man(completions::ManArgs),
+    /// List the JSON Schemas of what safereach writes, or write them with --out DIR.
+    Schema(schema::SchemaArgs),
 }
 
 /// Parses the command line, runs the subcommand and returns its exit status; an error is
@@ -121,5 +124,6 @@ fn run(command: Command, out: &mut Output) -> anyhow::Result<Exit> {
         Command::Init(args) => init::run(args, out),
         Command::Completions(args) => completions::run_completions(args, out),
         Command::Man(args) => completions::run_man(args, out),
+        Command::Schema(args) => schema::run(args, out),
     }
 }

@@ -290,18 +290,40 @@ struct Printer {
     first: Option<First>,
 }
 
-/// One event as a `--json` line.
-#[derive(Serialize)]
-struct EventJson<'a> {
+/// One event of `safereach monitor --json`: a line of its own, in trace order.
+#[derive(Serialize, schemars::JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct EventJson<'a> {
+    /// The sample's time (s); null when the sample had none that could be read.
     t: Option<f64>,
+    /// The obstacle as the trace names it; null for a robot-only sample or an unreadable id.
     obstacle_id: Option<&'a str>,
+    /// The check that failed.
+    #[schemars(with = "safereach::monitor::Check")]
     premise: &'static str,
+    /// The observed value, in `unit`; null for malformed and non-finite input.
     observed: Option<f64>,
+    /// The bound it broke, in `unit`.
     bound: Option<f64>,
+    /// What the robot must do.
+    #[schemars(with = "safereach::monitor::Action")]
     action: &'static str,
+    /// The unit of `observed` and `bound` (empty when they have none).
     unit: &'static str,
+    /// The trace line (1-based) of the sample.
     line: u64,
+    /// For malformed and non-finite input: what is wrong.
     detail: Option<String>,
+}
+
+/// The values of [`SummaryJson::verdict`], for its schema.
+#[derive(schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+#[allow(dead_code)] // Only its schema is used: the summary writes the verdict's name.
+enum SummaryVerdict {
+    Held,
+    Violated,
+    NothingChecked,
 }
 
 impl<'a> EventJson<'a> {
@@ -320,17 +342,30 @@ impl<'a> EventJson<'a> {
     }
 }
 
-/// The `--json` summary line: `{"summary": …}`.
-#[derive(Serialize)]
-struct SummaryJson<'a> {
+/// The last line of `safereach monitor --json`, under the key `summary`.
+#[derive(Serialize, schemars::JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct SummaryJson<'a> {
+    /// Whether every premise held (`held`), some was violated (`violated`), or no sample
+    /// could be checked (`nothing_checked`, exit 2).
+    #[schemars(with = "SummaryVerdict")]
     verdict: &'static str,
+    /// Samples read.
     samples: u64,
+    /// Instants: distinct times at which the robot's state was sampled.
     instants: u64,
+    /// Obstacles seen.
     obstacles: u64,
+    /// Violation events raised.
     violations: u64,
+    /// The first violation, as its event line.
     first_violation: Option<EventJson<'a>>,
+    /// Each premise of the certificate: whether it was monitored and its smallest margin.
     premises: &'a [PremiseSummary],
+    /// The controller's and the robot's behaviour checks.
     behaviour: &'a [CheckSummary],
+    /// Violations of each fail-safe check (malformed or non-finite input), by check name.
+    #[schemars(with = "std::collections::BTreeMap<String, u64>")]
     fail_safe: serde_json::Map<String, serde_json::Value>,
     /// Only under a scene certificate (a single obstacle's summary is as it was).
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -16,6 +16,7 @@ use crate::core::parameter::{ParamAffine, Parameter};
 
 /// One ranged parameter: every value in `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Axis {
     /// The parameter.
     pub parameter: Parameter,
@@ -48,6 +49,7 @@ pub enum End {
 
 /// A box of parameter values (distinct parameters, finite ends, lo ≤ hi).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct ParamBox {
     /// The ranged parameters, in the order the user gave them.
     pub axes: Vec<Axis>,

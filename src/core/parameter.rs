@@ -20,6 +20,7 @@ use crate::core::num::{Exact, Scalar, exact_decimal};
 
 /// A parameter that programs depend on affinely.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Parameter {
     /// W, `environment.obstacle_speed` (m/s).

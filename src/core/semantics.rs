@@ -21,6 +21,7 @@ use crate::core::num::Scalar;
 
 /// The robot's automaton location (the seed's robot template).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
     /// Before t = 0.
@@ -212,6 +213,7 @@ pub struct Observation<N> {
 
 /// Why the controller commanded Brake.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum BrakeReason {
     /// Observed gap within the danger distance.

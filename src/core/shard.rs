@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 /// A shard of a sweep: cells `index, index + count, …`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Shard {
     /// This shard's number, from 0.
     pub index: usize,

@@ -14,6 +14,7 @@ use crate::core::semantics::{BrakeReason, Mode, StepRecord, World};
 /// One row of a trace: the state at a control-period start, or at the instant the robot
 /// came to rest.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct TraceRow {
     /// Time (s).

@@ -27,6 +27,7 @@ const MAX_LISTED: usize = 4;
 
 /// The provenance record of a sweep output.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SweepProvenance {
     /// Always [`TOOL`].

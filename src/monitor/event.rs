@@ -12,6 +12,7 @@ use super::{Check, Field, ObstacleId, Sample};
 
 /// What a violation asks the robot to do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Action {
     /// Enter the passive safe state: brake to a stop.
@@ -152,6 +153,7 @@ impl fmt::Display for Detail {
 
 /// A violation: which check failed at which sample, by how much, and what to do.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Event {
     /// Index of the sample that raised it (0-based count of samples fed to the monitor,
     /// malformed ones included).
@@ -171,6 +173,7 @@ pub struct Event {
     pub action: Action,
     /// For malformed and non-finite input: what is wrong.
     #[serde(serialize_with = "serialize_detail")]
+    #[cfg_attr(feature = "schema", schemars(with = "Option<String>"))]
     pub detail: Option<Detail>,
 }
 
@@ -205,6 +208,7 @@ impl fmt::Display for Event {
 
 /// The standing verdict.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
     /// Every premise has held on every sample so far.

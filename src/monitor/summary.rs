@@ -11,6 +11,7 @@ use crate::proof::premise::PremiseKind;
 
 /// How a premise fared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// Checked at least once, never violated.
@@ -39,6 +40,7 @@ impl Status {
 /// bound it is compared with (bound − observed for an upper bound, observed − bound for a
 /// lower one, in the check's unit; negative where it was broken), and where.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Margin {
     /// The slack.
     pub slack: f64,
@@ -64,6 +66,7 @@ impl Margin {
 
 /// One premise in a [`Summary`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct PremiseSummary {
     /// The premise.
     pub premise: Check,
@@ -87,6 +90,7 @@ pub struct PremiseSummary {
 
 /// One fail-safe check in a [`Summary`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct FailSafeSummary {
     /// The check.
     pub check: Check,
@@ -96,6 +100,7 @@ pub struct FailSafeSummary {
 
 /// What the monitor saw, at the end of a trace (or at any moment).
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Summary {
     /// The standing verdict.
     pub verdict: Verdict,
@@ -123,6 +128,7 @@ pub struct Summary {
 
 /// What a scene certificate's monitor adds to the [`Summary`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SceneSummary {
     /// The scene checks, in [`SceneCheck::ALL`]'s order.
     pub checks: Vec<CheckSummary>,
@@ -138,6 +144,7 @@ pub type SceneCheckSummary = CheckSummary;
 
 /// One behaviour or scene check in a [`Summary`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct CheckSummary {
     /// The check.
     pub check: Check,
@@ -165,6 +172,7 @@ pub struct CheckSummary {
 /// One obstacle of the scene in a [`SceneSummary`]: what the certificate assumed of it and
 /// whether the trace showed it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct CertifiedObstacleSummary {
     /// Its name: the trace obstacle id it is matched to.
     pub name: String,

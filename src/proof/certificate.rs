@@ -36,6 +36,7 @@ pub const FORMAT: &str = "safereach-certificate/3";
 
 /// One piece's proof.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Proof {
     /// The piece.
@@ -50,6 +51,7 @@ pub struct Proof {
 
 /// The certificate file (and `certify --json` output).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Certificate {
     /// Always [`FORMAT`].

@@ -216,6 +216,7 @@ pub struct Noise {
 
 /// A premise as written: the field order here is the order in certificates.
 #[derive(Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 struct Written<'a> {
     name: &'a str,
     description: &'a str,
@@ -242,6 +243,29 @@ impl Serialize for Premise {
             unit: self.name.unit(),
         }
         .serialize(s)
+    }
+}
+
+#[cfg(feature = "schema")]
+impl schemars::JsonSchema for Premise {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Premise".into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        let names: Vec<&str> = PremiseKind::ALL.iter().map(|k| k.name()).collect();
+        schemars::json_schema!({
+            "description": "A premise the certificate's answer rests on: an assumption about the robot or its environment that the runtime monitor checks.",
+            "type": "object",
+            "properties": {
+                "name": { "type": "string", "enum": names },
+                "description": { "type": "string", "description": "What the premise says, in words." },
+                "bound": { "type": "number", "description": "The premise's bound, in `unit`." },
+                "unit": { "type": "string" },
+            },
+            "required": ["name", "description", "bound", "unit"],
+            "additionalProperties": false,
+        })
     }
 }
 

@@ -60,6 +60,7 @@ pub struct Row {
 
 /// The kind of cone a block of rows lies in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Cone {
     /// `a·x = b` for each row; dual multipliers are free.
@@ -97,6 +98,7 @@ pub struct Program {
 
 /// What a set of multipliers proves about a program.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum ProofKind {
     /// Every feasible point has objective ≥ the bound.

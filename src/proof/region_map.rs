@@ -26,6 +26,7 @@ pub const FORMAT: &str = "safereach-region-map/1";
 
 /// A leaf's verdict.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum LeafVerdict {
     /// s* exceeds the clearance at every point of the leaf (proved).
@@ -49,6 +50,7 @@ impl LeafVerdict {
 
 /// One piece's proof over a leaf.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct BoxProof {
     /// The piece.
@@ -64,6 +66,7 @@ pub struct BoxProof {
 
 /// A colliding behaviour at one point of a leaf.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Refutation {
     /// The point: each ranged key's value.
@@ -78,6 +81,7 @@ pub struct Refutation {
 
 /// One leaf of the map.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Leaf {
     /// The splits that lead to it from the whole box: one letter per split, `a` + the axis
@@ -106,6 +110,7 @@ pub struct Leaf {
 /// How much of the box each verdict covers, as fractions of its volume (over the axes that
 /// have width).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Coverage {
     /// Certified fraction.
@@ -118,6 +123,7 @@ pub struct Coverage {
 
 /// The map file (`safereach region --out`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct RegionMap {
     /// Always [`FORMAT`].

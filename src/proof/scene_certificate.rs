@@ -22,6 +22,7 @@ pub const SCENE_FORMAT: &str = "safereach-scene-certificate/2";
 
 /// The proofs for one obstacle of the robot's lane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ObstacleProofs {
     /// Its index in the scene.
@@ -38,6 +39,7 @@ pub struct ObstacleProofs {
 
 /// What made the robot brake in a bystander witness.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Trigger {
     /// The destination.
@@ -53,6 +55,7 @@ pub enum Trigger {
 
 /// A concrete worst-case behaviour of a scene, replayed exactly.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SceneWitness {
     /// Scene index of the obstacle whose separation is the worst case.
@@ -77,6 +80,7 @@ pub struct SceneWitness {
 
 /// The scene certificate file (and `certify --json` output for scenes).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SceneCertificate {
     /// Always [`SCENE_FORMAT`].

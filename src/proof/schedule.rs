@@ -88,6 +88,7 @@ use crate::proof::program::{Program, Row, Var};
 
 /// How a piece's schedule ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Ending {
     /// Brakes at T on collision danger.
@@ -104,6 +105,7 @@ pub enum Ending {
 
 /// One schedule piece: a set of behaviours whose worst case is one linear program.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Piece {
     /// First step whose observation is in the reaction area (only with the

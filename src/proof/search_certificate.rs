@@ -30,6 +30,7 @@ pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/2";
 
 /// One obstacle's worst case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ObstacleSeparation {
     /// Its index in the scene.
@@ -49,6 +50,7 @@ pub struct ObstacleSeparation {
 
 /// A concrete behaviour of the worst run, replayed exactly.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct RunWitness {
     /// Scene index of the obstacle whose separation is the worst case.
@@ -85,6 +87,7 @@ pub struct RunWitness {
 
 /// The search certificate file (and `certify --json` output for such scenes).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SearchCertificate {
     /// Always [`SEARCH_FORMAT`].

@@ -17,6 +17,7 @@ use crate::proof::scene_search::tree::{Ending, Leaf, Profile};
 
 /// One observation a witness shows off the truth.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ObservationError {
     /// The obstacle (scene index).

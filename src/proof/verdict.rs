@@ -28,6 +28,7 @@ pub fn rows_match(replayed: &TraceRow, stated: &TraceRow) -> bool {
 
 /// The three-valued answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum Verdict {
     /// Rigorous lower bound on s* above the clearance.
@@ -51,6 +52,7 @@ impl Verdict {
 
 /// A concrete worst-case behaviour, replayed exactly.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Witness {
     /// The piece it comes from.
@@ -62,6 +64,10 @@ pub struct Witness {
     /// The obstacle's speed in each control period (after the last: W); stored in files as
     /// constant-speed segments ([`crate::proof::witness_runs::SpeedSegment`]).
     #[serde(with = "crate::proof::witness_runs::as_segments")]
+    #[cfg_attr(
+        feature = "schema",
+        schemars(with = "Vec<crate::proof::witness_runs::SpeedSegment>")
+    )]
     pub obstacle_speeds: Vec<f64>,
     /// The robot's mode over the run, as segments of periods (`check` holds them to the
     /// replay).

@@ -20,6 +20,7 @@ pub const MAX_WITNESS_PERIODS: usize = 10_000_000;
 
 /// The obstacle's speed held over `length` control periods from period `start`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SpeedSegment {
     /// First period (from 0).
@@ -33,6 +34,7 @@ pub struct SpeedSegment {
 /// The robot's mode over `length` control periods from period `start` (the mode at each
 /// period's start, as the replay's rows give it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ModeSegment {
     /// First period (from 0).

@@ -41,6 +41,7 @@ mod scene_input;
 mod scene_search;
 mod scene_sensing;
 mod scene_uppaal;
+mod schemas;
 mod slurm_cluster;
 mod sweep;
 mod sweep_report;

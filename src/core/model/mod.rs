@@ -36,6 +36,7 @@ pub use position::Position;
 
 /// A verification problem: one robot, its controller, one oncoming obstacle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Problem {
     /// Short name shown in reports.
@@ -54,6 +55,7 @@ pub struct Problem {
 /// How far the robot's observations may be off from the truth (DESIGN.md §1.2). The errors
 /// are the environment's choice, per observation, adversarially.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Sensing {
     /// σ_g: every observed gap is within ±σ_g of the true one (m), ≥ 0; None: 0.
@@ -95,6 +97,7 @@ impl Problem {
 
 /// The robot's dynamics and timing.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Robot {
     /// Top speed v_max (m/s), > 0.
@@ -134,6 +137,7 @@ impl Robot {
 
 /// The controller's braking rule.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Controller {
     /// V_a: the obstacle speed bound the controller believes (m/s), ≥ 0.
@@ -150,6 +154,7 @@ pub struct Controller {
 
 /// The collision-danger distance d_coll(v) the controller compares the observed gap with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum DangerRule {
     /// The seed paper's formula: v·t_b + V_a·t_b + buffer with t_b = v/b.
@@ -162,6 +167,7 @@ pub enum DangerRule {
 
 /// What the environment really does.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Environment {
     /// W: the real bound on the obstacle's speed (m/s), ≥ 0; 0 is a static obstacle.

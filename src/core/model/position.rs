@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 /// An initial position or gap: a number, or a range `[min, max]` whose every point the
 /// environment may choose (the analysis covers them all).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(untagged)]
 pub enum Position {
     /// Exactly here (m).

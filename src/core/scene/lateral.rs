@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// A lane change: when it started and between which lanes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct LaneChangeEvent {
     /// The step at whose start it began.

@@ -87,6 +87,7 @@ pub use world::{ObstacleStep, SceneStepRecord, SceneWorld};
 
 /// A scene: one robot, its controller, the lanes and every obstacle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// Short name shown in reports.
@@ -116,6 +117,7 @@ pub struct Scene {
 
 /// How the controller changes lanes.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct LaneChange {
     /// P: whole control periods a lane change lasts, ≥ 1.
@@ -126,6 +128,7 @@ pub struct LaneChange {
 
 /// One obstacle of a scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Obstacle {
     /// Unique name (default `obstacle-<index>`); trace obstacle ids are matched to it.

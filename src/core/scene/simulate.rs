@@ -16,6 +16,7 @@ use super::world::{SceneStepRecord, SceneWorld};
 
 /// Why a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum RunEnd {
     /// The robot came to rest.
@@ -344,6 +345,7 @@ fn replay_with(
 
 /// One row of a scene trace: one obstacle at one instant, with the robot's lanes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(from = "FlatSceneTraceRow")]
 pub struct SceneTraceRow {
     /// The single-obstacle row's columns, for this obstacle.
@@ -363,6 +365,7 @@ pub struct SceneTraceRow {
 /// A [`SceneTraceRow`] as it is read: every column named, so that an unknown one is refused
 /// (serde cannot refuse unknown fields beside a flattened struct).
 #[derive(Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 struct FlatSceneTraceRow {
     t: f64,

@@ -8,6 +8,7 @@ use crate::core::scene::{Obstacle, Scene};
 /// A scene in the file's shape: the scene's settings in `[robot]` and `[controller]`, the
 /// lanes in `[scene]`, the obstacles as `[[obstacle]]`.
 #[derive(Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 struct File<'a> {
     name: &'a str,
     robot: RobotTable<'a>,
@@ -19,6 +20,7 @@ struct File<'a> {
 }
 
 #[derive(Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 struct RobotTable<'a> {
     #[serde(flatten)]
     robot: &'a Robot,
@@ -29,6 +31,7 @@ struct RobotTable<'a> {
 }
 
 #[derive(Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 struct ControllerTable<'a> {
     #[serde(flatten)]
     controller: &'a Controller,
@@ -40,6 +43,7 @@ struct ControllerTable<'a> {
 }
 
 #[derive(Serialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 struct SceneTable<'a> {
     lanes: &'a [i32],
 }

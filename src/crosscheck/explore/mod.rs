@@ -244,6 +244,7 @@ pub fn bytes_per_state(latency: usize, obstacles: usize) -> u64 {
 
 /// The explorer's three-valued answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum ExploreVerdict {
     /// Every behaviour of the finite model was explored; none collides.

@@ -287,6 +287,22 @@ impl Serialize for Check {
     }
 }
 
+#[cfg(feature = "schema")]
+impl schemars::JsonSchema for Check {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Check".into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        let names: Vec<&str> = Check::ALL.iter().map(|c| c.as_str()).collect();
+        schemars::json_schema!({
+            "description": "A check of the monitor: a premise of the certificate, a fail-safe check of the input, a behaviour of the robot, or a scene's check.",
+            "type": "string",
+            "enum": names,
+        })
+    }
+}
+
 impl<'de> Deserialize<'de> for Check {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Check, D::Error> {
         let name = String::deserialize(d)?;
