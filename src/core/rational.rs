@@ -24,7 +24,52 @@ pub enum Rational {
     Big(Exact),
 }
 
-fn gcd(mut a: u128, mut b: u128) -> u128 {
+/// gcd(a, b), in 64-bit words when both fit: the replay's numbers almost always do, and
+/// 128-bit shifts and compares cost twice as much.
+fn gcd(a: u128, b: u128) -> u128 {
+    match (u64::try_from(a), u64::try_from(b)) {
+        (Ok(a), Ok(b)) => u128::from(gcd64(a, b)),
+        _ => gcd128(a, b),
+    }
+}
+
+fn gcd64(mut a: u64, mut b: u64) -> u64 {
+    if a == 0 {
+        return b;
+    }
+    if b == 0 {
+        return a;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
+}
+
+/// `n / g` for a divisor `g` of `n` (g ≥ 1), in 64-bit words when both fit: a 128-bit
+/// division is a call into a software routine (`__divti3`), ten times a hardware one.
+fn div_exact(n: i128, g: i128) -> i128 {
+    match (i64::try_from(n), i64::try_from(g)) {
+        (Ok(n), Ok(g)) => i128::from(n / g),
+        _ => n / g,
+    }
+}
+
+/// Whether `x` fits in 64 bits: then a product of two such numbers, and a sum of two such
+/// products, fits in 128 bits without a check.
+fn fits64(x: i128) -> bool {
+    x as i64 as i128 == x
+}
+
+fn gcd128(mut a: u128, mut b: u128) -> u128 {
     if a == 0 {
         return b;
     }
@@ -51,7 +96,7 @@ impl Rational {
         debug_assert!(d != 0);
         let g = gcd(n.unsigned_abs(), d.unsigned_abs());
         let (n, d) = if g > 1 {
-            (n / g as i128, d / g as i128)
+            (div_exact(n, g as i128), div_exact(d, g as i128))
         } else {
             (n, d)
         };
@@ -106,6 +151,9 @@ impl PartialOrd for Rational {
             if b == d {
                 return Some(a.cmp(c));
             }
+            if fits64(*a) && fits64(*b) && fits64(*c) && fits64(*d) {
+                return Some((a * d).cmp(&(c * b)));
+            }
             if let (Some(x), Some(y)) = (a.checked_mul(*d), c.checked_mul(*b)) {
                 return Some(x.cmp(&y));
             }
@@ -120,6 +168,8 @@ impl Add for Rational {
         if let (Rational::Small(a, b), Rational::Small(c, d)) = (&self, &other) {
             let sum = if b == d {
                 a.checked_add(*c).map(|n| (n, *b))
+            } else if fits64(*a) && fits64(*b) && fits64(*c) && fits64(*d) {
+                Some((a * d + c * b, b * d))
             } else {
                 match (a.checked_mul(*d), c.checked_mul(*b), b.checked_mul(*d)) {
                     (Some(x), Some(y), Some(den)) => x.checked_add(y).map(|n| (n, den)),
@@ -163,12 +213,25 @@ impl Mul for Rational {
     type Output = Rational;
     fn mul(self, other: Rational) -> Rational {
         if let (Rational::Small(a, b), Rational::Small(c, d)) = (&self, &other) {
+            if *a == 0 || *c == 0 {
+                return Rational::Small(0, 1);
+            }
+            if *b == 1
+                && *d == 1
+                && let Some(n) = a.checked_mul(*c)
+            {
+                return Rational::Small(n, 1);
+            }
             // Cancel across first: keeps the products small and the result in lowest terms.
             let g1 = gcd(a.unsigned_abs(), d.unsigned_abs()).max(1) as i128;
             let g2 = gcd(c.unsigned_abs(), b.unsigned_abs()).max(1) as i128;
-            if let (Some(n), Some(den)) =
-                ((a / g1).checked_mul(c / g2), (b / g2).checked_mul(d / g1))
-            {
+            let (a, b, c, d) = (
+                div_exact(*a, g1),
+                div_exact(*b, g2),
+                div_exact(*c, g2),
+                div_exact(*d, g1),
+            );
+            if let (Some(n), Some(den)) = (a.checked_mul(c), b.checked_mul(d)) {
                 return Rational::small(n, den);
             }
         }
@@ -217,6 +280,19 @@ mod tests {
                 .prop_map(|(n, d)| Exact::from_parts(IBig::from(n), UBig::from(d))),
             (any::<i128>(), 1u128..u128::MAX)
                 .prop_map(|(n, d)| Exact::from_parts(IBig::from(n), UBig::from(d))),
+            // Either side of 2^63, where the 64-bit fast paths end.
+            (-2000i128..2000, 0u128..2000, any::<bool>(), any::<bool>()).prop_map(
+                |(dn, dd, neg, small_d)| {
+                    let edge = 1i128 << 63;
+                    let n = if neg { -edge - dn } else { edge + dn };
+                    let d = if small_d {
+                        1 + dd
+                    } else {
+                        (edge as u128) - 1000 + dd
+                    };
+                    Exact::from_parts(IBig::from(n), UBig::from(d))
+                }
+            ),
         ]
     }
 
