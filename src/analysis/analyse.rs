@@ -18,7 +18,6 @@ use crate::core::simulate;
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::schedule::{Decomposition, Piece};
 pub use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
-use crate::proof::witness_runs::mode_segments;
 use crate::proof::witness_schedule::replay_realises;
 
 /// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
@@ -504,22 +503,24 @@ fn replay_witness(
     } else {
         piece.brake + shift + 1
     };
-    speeds.resize(max_steps, quantised(&params.W));
+    // After the program's speeds the obstacle keeps at W (quantised, as every speed).
+    let tail = quantised(&params.W);
     let aim = crate::proof::verdict::aim(&piece, shift, first_seen);
-    let replay = simulate::replay_reacting_at(params, &speeds, aim, max_steps, false);
+    let replay = simulate::replay_with_tail(params, &speeds, tail, aim, max_steps, false);
     replay_realises(params, &replay, &piece, shift).ok()?;
-    speeds.truncate(replay.periods());
-    let steps = replay.trace();
+    speeds.resize(replay.periods(), tail);
     Some(Witness {
         piece,
         shift,
         margin,
-        robot_modes: mode_segments(replay.run.records.iter().map(|r| r.robot.mode)),
+        robot_modes: replay.run.modes.clone(),
         first_seen,
         obstacle_speeds: speeds,
         collides: replay.collided(),
         separation: replay.rest_gap().as_ref().map(f64_at_most),
-        steps,
+        // The per-period rows grow with the horizon: only a certificate that asks for
+        // them replays them ([`crate::proof::certificate::Certificate::from_analysis_with_steps`]).
+        steps: Vec::new(),
     })
 }
 

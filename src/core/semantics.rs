@@ -723,7 +723,7 @@ impl<N: Scalar> World<N> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::core::model::Problem;
     use crate::core::num::Exact;
@@ -767,24 +767,24 @@ mod tests {
     }
 
     /// A small deterministic generator (tests need no reproducibility beyond a fixed seed).
-    struct Lcg(u64);
+    pub(crate) struct Lcg(pub(crate) u64);
 
     impl Lcg {
-        fn below(&mut self, n: u64) -> u64 {
+        pub(crate) fn below(&mut self, n: u64) -> u64 {
             self.0 = self
                 .0
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             (self.0 >> 33) % n
         }
-        fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
+        pub(crate) fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
             xs[self.below(xs.len() as u64) as usize]
         }
     }
 
     /// Parameters across rules, latencies, speeds, radii, noise, occlusion, weaker brakes
     /// and start speeds.
-    fn random_params(rng: &mut Lcg) -> Params<crate::core::rational::Rational> {
+    pub(crate) fn random_params(rng: &mut Lcg) -> Params<crate::core::rational::Rational> {
         let rule = rng.pick(&["paper", "kinematic", "area"]);
         let latency = rng.below(4);
         let dt = rng.pick(&[0.1, 0.05, 0.01, 0.25]);
@@ -814,9 +814,10 @@ mod tests {
              latency = {latency}\nclearance = {}\n[controller]\nassumed_obstacle_speed = 0.2\n\
              reaction_radius = {rho}\ndanger_rule = \"{rule}\"\nbuffer = 0.1\n\
              wrong_assumption_brake = {}\n[environment]\nobstacle_speed = {w}\n\
-             initial_gap = 3.0\n{sensing}",
+             initial_gap = {}\n{sensing}",
             rng.pick(&[0.0, 0.05]),
             rng.below(2) == 1,
+            rng.pick(&[3.0, 2.5, 8.0, 30.0]),
         );
         Problem::from_toml_str(&text, "test")
             .expect("valid")

@@ -75,9 +75,10 @@ pub struct Witness {
     pub collides: bool,
     /// Gap when the robot came to rest (None: it never stopped before colliding).
     pub separation: Option<f64>,
-    /// One row at every period start plus the instant the robot came to rest: kept in
-    /// memory by the analyser, written to a file only when asked (`certify --steps`), since
-    /// it grows with the horizon. `check` compares it with the replay when present.
+    /// One row at every period start plus the instant the robot came to rest: written only
+    /// when asked (`certify --steps`, which replays the witness period by period for them),
+    /// since it grows with the horizon; empty in the analyser's witness. `check` compares
+    /// it with the replay when present.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<TraceRow>,
 }

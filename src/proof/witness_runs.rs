@@ -3,7 +3,7 @@
 //! the behaviour changes, not with the horizon (a robot at 1 kHz keeps a worst case of a
 //! few segments over half a million periods).
 //!
-//! In memory a witness keeps one speed per period (what the replay steps through); the
+//! In memory a witness keeps one speed per period (the replay reads them as constant runs); the
 //! certificate file stores [`SpeedSegment`]s, read back with their order, contiguity and total
 //! length checked ([`speeds_from_segments`]), so a file cannot ask for more periods than a
 //! problem's horizon may have.
@@ -15,7 +15,9 @@ use crate::core::semantics::Mode;
 /// Most periods a witness file may describe. Validation keeps each part of a problem's
 /// horizon (reaching top speed, covering the initial gap, stopping) within 10⁶ periods, so a
 /// real witness stays below a few million; this bounds what a forged segment can make a
-/// reader allocate (80 MB of speeds).
+/// reader allocate (80 MB of speeds, one `f64` a period in memory). The replay itself leaps
+/// over quiescent stretches ([`crate::core::semantics::World::leap`]), so it is not what this
+/// guards.
 pub const MAX_WITNESS_PERIODS: usize = 10_000_000;
 
 /// The obstacle's speed held over `length` control periods from period `start`.
@@ -30,18 +32,7 @@ pub struct SpeedSegment {
     pub speed: f64,
 }
 
-/// The robot's mode over `length` control periods from period `start` (the mode at each
-/// period's start, as the replay's rows give it).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ModeSegment {
-    /// First period (from 0).
-    pub start: usize,
-    /// Number of periods (at least 1).
-    pub length: usize,
-    /// The mode.
-    pub mode: Mode,
-}
+pub use crate::core::simulate::ModeSegment;
 
 /// Per-period speeds as maximal constant segments (equal neighbours bit for bit merge).
 pub fn speed_segments(speeds: &[f64]) -> Vec<SpeedSegment> {
