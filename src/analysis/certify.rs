@@ -47,12 +47,14 @@ impl Certificate {
         if let Some(w) = witness.as_mut() {
             w.steps = if steps {
                 // The witness's run recorded period by period, as `check` replays it.
-                crate::core::simulate::replay_recorded(
+                crate::core::simulate::replay_segments(
                     &a.decomposition.params,
-                    &w.obstacle_speeds,
+                    w.obstacle_speeds.segments(),
+                    None,
                     w.aim(),
                     w.obstacle_speeds.len(),
                     false,
+                    true,
                 )
                 .trace()
             } else {

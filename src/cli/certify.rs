@@ -79,11 +79,13 @@ fn witness_times(analysis: &analysis::Analysis) -> WitnessTimes {
     let Some(w) = &analysis.witness else {
         return WitnessTimes::default();
     };
-    let replay = simulate::replay_reacting_at(
+    let replay = simulate::replay_segments(
         &analysis.decomposition.params,
-        &w.obstacle_speeds,
+        w.obstacle_speeds.segments(),
+        None,
         w.aim(),
         w.obstacle_speeds.len(),
+        false,
         false,
     );
     let brake = replay.run.modes.iter().find(|m| m.mode == Mode::Brake);

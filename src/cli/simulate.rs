@@ -185,16 +185,14 @@ fn replay(
         )
     })?;
     // Period by period only for a trace to write; else the replay leaps (same run).
-    let replay = if trace.is_some() {
-        simulate::replay_recorded
-    } else {
-        simulate::replay_reacting_at
-    }(
+    let replay = simulate::replay_segments(
         &exact,
-        &witness.obstacle_speeds,
+        witness.obstacle_speeds.segments(),
+        None,
         witness.aim(),
         witness.obstacle_speeds.len(),
         false,
+        trace.is_some(),
     );
     if let Some(path) = trace {
         let rows = replay.trace();

@@ -198,6 +198,18 @@ fn run_world_with<N: Scalar>(
     }
 }
 
+/// The obstacle's speed held over `length` control periods from period `start`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedSegment {
+    /// First period (from 0).
+    pub start: usize,
+    /// Number of periods (at least 1).
+    pub length: usize,
+    /// Speed towards the robot (m/s).
+    pub speed: f64,
+}
+
 /// The robot's mode over `length` control periods from period `start` (the mode at each
 /// period's start, as the replay's rows give it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -549,7 +561,6 @@ fn replay_from(
     stop_at_collision: bool,
     record: bool,
 ) -> Replay {
-    let params: Params<Rational> = params.map(Rational::from_exact);
     // Constant-speed runs: (end, speed), the tail endless.
     let mut runs: Vec<(usize, f64)> = Vec::new();
     for (k, &w) in speeds.iter().enumerate() {
@@ -558,6 +569,58 @@ fn replay_from(
             _ => runs.push((k + 1, w)),
         }
     }
+    replay_runs(
+        params,
+        &runs,
+        tail,
+        aim,
+        max_steps,
+        stop_at_collision,
+        record,
+    )
+}
+
+/// [`replay_reacting_at`] of speeds given as contiguous segments from period 0, with `tail`
+/// after them (None: W), leaping unless `record`ed ([`replay_recorded`]).
+pub fn replay_segments(
+    params: &Params<Exact>,
+    segments: &[SpeedSegment],
+    tail: Option<f64>,
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+    record: bool,
+) -> Replay {
+    let tail = match tail {
+        Some(t) => Rational::from_exact(&exact_float(t)),
+        None => Rational::from_exact(&params.W),
+    };
+    let runs: Vec<(usize, f64)> = segments
+        .iter()
+        .map(|s| (s.start + s.length, s.speed))
+        .collect();
+    replay_runs(
+        params,
+        &runs,
+        tail,
+        aim,
+        max_steps,
+        stop_at_collision,
+        record,
+    )
+}
+
+/// The replay of constant-speed `runs` ((end, speed), in order from period 0), then `tail`.
+fn replay_runs(
+    params: &Params<Exact>,
+    runs: &[(usize, f64)],
+    tail: Rational,
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+    record: bool,
+) -> Replay {
+    let params: Params<Rational> = params.map(Rational::from_exact);
     let mut run = 0;
     let mut speed: Option<Rational> = None;
     let mut world = World::new(params.clone());

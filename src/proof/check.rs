@@ -183,7 +183,13 @@ pub(crate) fn shown(x: Option<f64>) -> String {
 fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result<bool, Invalid> {
     let params = &dec.params;
     let bound = &params.W;
-    if let Some(k) = first_outside(&w.obstacle_speeds, bound) {
+    if let Some(k) = w
+        .obstacle_speeds
+        .segments()
+        .iter()
+        .find(|s| outside(s.speed, bound))
+        .map(|s| s.start)
+    {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }
     if !dec.pieces.contains(&w.piece) {
@@ -198,14 +204,10 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
              early entry has one to choose",
         );
     }
-    let replay = simulate::replay_reacting_at(
-        params,
-        &w.obstacle_speeds,
-        w.aim(),
-        w.obstacle_speeds.len(),
-        false,
-    );
-    if replay.periods() != w.obstacle_speeds.len() {
+    let speeds = w.obstacle_speeds.segments();
+    let periods = w.obstacle_speeds.len();
+    let replay = simulate::replay_segments(params, speeds, None, w.aim(), periods, false, false);
+    if replay.periods() != periods {
         return invalid("witness lists speeds past the end of its run");
     }
     if replay.run.modes != w.robot_modes {
@@ -214,14 +216,8 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
     // The per-period rows are optional (`certify --steps`); when present they must match
     // the replay recorded period by period (the same run, every period stepped).
     let same = w.steps.is_empty() || {
-        let steps = simulate::replay_recorded(
-            params,
-            &w.obstacle_speeds,
-            w.aim(),
-            w.obstacle_speeds.len(),
-            false,
-        )
-        .trace();
+        let steps =
+            simulate::replay_segments(params, speeds, None, w.aim(), periods, false, true).trace();
         steps.len() == w.steps.len() && steps.iter().zip(&w.steps).all(|(a, b)| rows_match(a, b))
     };
     if !same {
@@ -252,6 +248,11 @@ pub(crate) fn first_outside(speeds: &[f64], bound: &Exact) -> Option<usize> {
             return false;
         }
         judged = Some(s.to_bits());
-        s.is_nan() || s < 0.0 || crate::core::num::exact_float(s) > *bound
+        outside(s, bound)
     })
+}
+
+/// Whether a speed is outside [0, `bound`] (NaN included), exactly.
+fn outside(s: f64, bound: &Exact) -> bool {
+    s.is_nan() || s < 0.0 || crate::core::num::exact_float(s) > *bound
 }

@@ -61,8 +61,7 @@ pub struct Witness {
     pub margin: f64,
     /// The obstacle's speed in each control period (after the last: W); stored in files as
     /// constant-speed segments ([`crate::proof::witness_runs::SpeedSegment`]).
-    #[serde(with = "crate::proof::witness_runs::as_segments")]
-    pub obstacle_speeds: Vec<f64>,
+    pub obstacle_speeds: crate::proof::witness_runs::Speeds,
     /// The robot's mode over the run, as segments of periods (`check` holds them to the
     /// replay).
     pub robot_modes: Vec<ModeSegment>,
