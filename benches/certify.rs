@@ -173,7 +173,7 @@ fn main() {
     // What grows with the horizon (issue 12): the seed from 100 m at control periods from
     // 1 s to 0.5 ms, 5·10² to 10⁶ witness periods. The replay leaps over the cruise and the
     // braking; what still walks periods is the drive profile up to top speed (v_max/(a·dt)
-    // periods, in the decomposition that analyse and check each build).
+    // periods, stepped and stored by the decomposition that analyse and check each build).
     for dt in [1.0, 0.1, 0.01, 0.001, 0.0005] {
         let mut p = seed.clone();
         p.environment.initial_gap = safereach::core::model::Position::At(100.0);
