@@ -18,7 +18,7 @@ use crate::core::simulate;
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::schedule::{Decomposition, Piece};
 pub use crate::proof::verdict::{REPLAY_TOLERANCE, TRACE_TOLERANCE, Verdict, Witness};
-use crate::proof::witness_runs::mode_segments;
+use crate::proof::witness_runs::Speeds;
 use crate::proof::witness_schedule::replay_realises;
 
 /// Strict rows are moved this far inside when extracting a witness (m, or m/s for speeds).
@@ -437,7 +437,7 @@ pub(crate) fn speeds_from_point(
     piece: &Piece,
     program: &Program,
     x: &[f64],
-) -> (usize, Vec<f64>, Option<usize>) {
+) -> (usize, Speeds, Option<usize>) {
     let p = &dec.params;
     let m = dec.anchor(piece);
     let n = piece.brake.saturating_sub(p.L);
@@ -445,7 +445,7 @@ pub(crate) fn speeds_from_point(
     let u = clamp(exact_float(x[0]), &var.lower.value, &var.upper.value);
     let shift = dec.shift_for(piece, &u);
     let m2 = m + shift;
-    let mut speeds = Vec::with_capacity(n + shift + 32);
+    let mut speeds = Speeds::default();
     let mut first_seen = None;
     if m2 > 0 {
         let total = p.g0.clone() - dec.position(m2) - u.clone();
@@ -472,16 +472,21 @@ pub(crate) fn speeds_from_point(
                 // λ = 1 ends a step exactly on ρ at a speed above V_a: stay just outside.
                 lambda = near_one;
             }
-            fast.iter()
-                .map(|w| quantised(&clamp(lambda.clone() * w.clone(), &Exact::ZERO, &p.W)))
-                .collect()
+            let mut speeds = Speeds::default();
+            for w in &fast {
+                speeds.extend(
+                    quantised(&clamp(lambda.clone() * w.clone(), &Exact::ZERO, &p.W)),
+                    1,
+                );
+            }
+            speeds
         } else {
             prefix_speeds(p, m2, total)
         };
     }
     for (j, var) in program.vars.iter().enumerate().skip(1).take(n - m) {
         let w = clamp(exact_float(x[j]), &var.lower.value, &var.upper.value);
-        speeds.push(quantised(&w));
+        speeds.extend(quantised(&w), 1);
     }
     (shift, speeds, first_seen)
 }
@@ -493,7 +498,7 @@ fn replay_witness(
     piece: Piece,
     shift: usize,
     margin: f64,
-    mut speeds: Vec<f64>,
+    mut speeds: Speeds,
     first_seen: Option<usize>,
 ) -> Option<Witness> {
     let params = &dec.params;
@@ -504,22 +509,32 @@ fn replay_witness(
     } else {
         piece.brake + shift + 1
     };
-    speeds.resize(max_steps, quantised(&params.W));
+    // After the program's speeds the obstacle keeps at W (quantised, as every speed).
+    let tail = quantised(&params.W);
     let aim = crate::proof::verdict::aim(&piece, shift, first_seen);
-    let replay = simulate::replay_reacting_at(params, &speeds, aim, max_steps, false);
+    let replay = simulate::replay_segments(
+        params,
+        speeds.segments(),
+        Some(tail),
+        aim,
+        max_steps,
+        false,
+        false,
+    );
     replay_realises(params, &replay, &piece, shift).ok()?;
-    speeds.truncate(replay.periods());
-    let steps = replay.trace();
+    speeds.resize(replay.periods(), tail);
     Some(Witness {
         piece,
         shift,
         margin,
-        robot_modes: mode_segments(replay.run.records.iter().map(|r| r.robot.mode)),
+        robot_modes: replay.run.modes.clone(),
         first_seen,
         obstacle_speeds: speeds,
         collides: replay.collided(),
         separation: replay.rest_gap().as_ref().map(f64_at_most),
-        steps,
+        // The per-period rows grow with the horizon: only a certificate that asks for
+        // them replays them ([`crate::proof::certificate::Certificate::from_analysis_with_steps`]).
+        steps: Vec::new(),
     })
 }
 
@@ -572,7 +587,7 @@ pub(crate) fn quantised(x: &Exact) -> f64 {
 /// speed rounded down to a multiple of 2⁻³⁰ m/s, with the remainder in the last period.
 /// Short dyadic speeds keep the exact replay's numbers small (a 53-bit float speed held for
 /// hundreds of periods makes every later position a long fraction).
-fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Vec<f64> {
+fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Speeds {
     let total = clamp(
         distance / p.dt.clone(),
         &Exact::ZERO,
@@ -581,15 +596,16 @@ fn prefix_speeds(p: &Params<Exact>, m: usize, distance: Exact) -> Vec<f64> {
     let scale = Exact::from(1u64 << 30);
     let each = Exact::from((total.clone() * scale.clone() / Exact::from(m)).floor()) / scale;
     let last = total - each.clone() * Exact::from(m - 1);
+    let mut speeds = Speeds::default();
     if last <= p.W {
-        let mut speeds = vec![quantised(&each); m - 1];
-        speeds.push(quantised(&last));
-        speeds
+        speeds.extend(quantised(&each), m - 1);
+        speeds.extend(quantised(&last), 1);
     } else {
         // Only when the total is within m·2⁻³⁰ of m·W: spread it evenly.
         let w = (each * Exact::from(m - 1) + last) / Exact::from(m);
-        vec![quantised(&clamp(w, &Exact::ZERO, &p.W)); m]
+        speeds.extend(quantised(&clamp(w, &Exact::ZERO, &p.W)), m);
     }
+    speeds
 }
 
 /// Replays a witness's obstacle speeds exactly (used by `check` and by tests).

@@ -44,8 +44,22 @@ impl Certificate {
 
     fn of_analysis(a: &Analysis, steps: bool) -> Self {
         let mut witness = a.witness.clone();
-        if let Some(w) = witness.as_mut().filter(|_| !steps) {
-            w.steps = Vec::new();
+        if let Some(w) = witness.as_mut() {
+            w.steps = if steps {
+                // The witness's run recorded period by period, as `check` replays it.
+                crate::core::simulate::replay_segments(
+                    &a.decomposition.params,
+                    w.obstacle_speeds.segments(),
+                    None,
+                    w.aim(),
+                    w.obstacle_speeds.len(),
+                    false,
+                    true,
+                )
+                .trace()
+            } else {
+                Vec::new()
+            };
         }
         let proofs = a.outcomes.iter().map(proof).collect();
         let lower_bound = a.lower_bound.as_ref().map(f64_at_most);

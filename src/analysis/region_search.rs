@@ -270,7 +270,7 @@ fn refute_at(point: &Problem, b: &ParamBox, solved: &mut usize) -> Result<Refuta
                 .collect::<BTreeMap<_, _>>(),
             piece: w.piece,
             shift: w.shift,
-            obstacle_speeds: w.obstacle_speeds,
+            obstacle_speeds: w.obstacle_speeds.to_vec(),
         }),
         (Verdict::Certified, _) => Err("its centre is certified".into()),
         _ => Err("its centre is inconclusive".into()),

@@ -78,7 +78,7 @@ fn piece_speeds(
     };
     // (Scenes observe every obstacle from the start: no sighting to carry.)
     let (shift, speeds, _) = speeds_from_point(d, piece, &program, &x);
-    Some((shift, speeds))
+    Some((shift, speeds.to_vec()))
 }
 
 /// One witness attempt for obstacle `a`'s piece at one margin.

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use safereach::analysis;
 use safereach::core::semantics::Mode;
 use safereach::core::show::{down, up, value};
-use safereach::core::simulate::TraceRow;
+use safereach::core::simulate;
 use safereach::proof::certificate::{self, Certificate, Premise};
 
 use super::exit::Exit;
@@ -62,16 +62,43 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
     if args.json {
         write!(out, "{text}")?;
     } else {
-        let steps = analysis.witness.as_ref().map_or(&[][..], |w| &w.steps[..]);
-        write!(out, "{}", summary(&cert, steps))?;
+        write!(out, "{}", summary(&cert, witness_times(&analysis)))?;
     }
     Ok(cert.verdict.into())
+}
+
+/// When the witness's robot brakes and when its trace ends (s), as its rows show them.
+#[derive(Clone, Copy, Default)]
+struct WitnessTimes {
+    brake: Option<f64>,
+    end: Option<f64>,
+}
+
+/// The witness's [`WitnessTimes`], from its exact replay (without rows per period).
+fn witness_times(analysis: &analysis::Analysis) -> WitnessTimes {
+    let Some(w) = &analysis.witness else {
+        return WitnessTimes::default();
+    };
+    let replay = simulate::replay_segments(
+        &analysis.decomposition.params,
+        w.obstacle_speeds.segments(),
+        None,
+        w.aim(),
+        w.obstacle_speeds.len(),
+        false,
+        false,
+    );
+    let brake = replay.run.modes.iter().find(|m| m.mode == Mode::Brake);
+    WitnessTimes {
+        brake: brake.map(|m| replay.period_start(m.start)),
+        end: replay.end_time(),
+    }
 }
 
 /// The human-readable answer: verdict, worst case, bound and premises. Bounds are shown
 /// rounded in their own direction, times and values without float noise
 /// ([`safereach::core::show`]).
-fn summary(cert: &Certificate, steps: &[TraceRow]) -> String {
+fn summary(cert: &Certificate, times: WitnessTimes) -> String {
     let mut s = format!("{}: {}\n", cert.problem.name, cert.verdict.as_str());
     let witness_sep = cert.witness.as_ref().and_then(|w| w.separation);
     s += &format!(
@@ -86,11 +113,9 @@ fn summary(cert: &Certificate, steps: &[TraceRow]) -> String {
     );
     s += &lower_bound_text(cert.lower_bound, cert.clearance);
     if let Some(w) = &cert.witness {
-        let brake = steps.iter().find(|r| r.robot_mode == Mode::Brake);
-        let last = steps.last();
-        let end = match (last, w.separation) {
-            (Some(l), Some(r)) => format!(", ends at t = {} s with gap {} m", value(l.t), up(r, 9)),
-            (Some(l), None) => format!(", ends at t = {} s still moving", value(l.t)),
+        let end = match (times.end, w.separation) {
+            (Some(l), Some(r)) => format!(", ends at t = {} s with gap {} m", value(l), up(r, 9)),
+            (Some(l), None) => format!(", ends at t = {} s still moving", value(l)),
             (None, _) => String::new(),
         };
         s += &format!(
@@ -105,8 +130,9 @@ fn summary(cert: &Certificate, steps: &[TraceRow]) -> String {
             } else {
                 "closest approach"
             },
-            brake
-                .map(|b| format!(", robot brakes at t = {} s", value(b.t)))
+            times
+                .brake
+                .map(|b| format!(", robot brakes at t = {} s", value(b)))
                 .unwrap_or_default(),
         );
     }

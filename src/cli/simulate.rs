@@ -184,15 +184,18 @@ fn replay(
             cert_path.display()
         )
     })?;
-    let replay = simulate::replay_reacting_at(
+    // Period by period only for a trace to write; else the replay leaps (same run).
+    let replay = simulate::replay_segments(
         &exact,
-        &witness.obstacle_speeds,
+        witness.obstacle_speeds.segments(),
+        None,
         witness.aim(),
         witness.obstacle_speeds.len(),
         false,
+        trace.is_some(),
     );
-    let rows = replay.trace();
     if let Some(path) = trace {
+        let rows = replay.trace();
         write_file(path, trace_for_path(path, &rows, "0").as_bytes())?;
     }
     let sep = replay.rest_gap().map(|g| g.to_f64().value());
@@ -200,7 +203,7 @@ fn replay(
         writeln!(
             out,
             "{}",
-            serde_json::json!({"replay": cert_path, "collided": replay.collided(), "separation": sep, "steps": rows.len()})
+            serde_json::json!({"replay": cert_path, "collided": replay.collided(), "separation": sep, "steps": replay.run.trace_rows()})
         )?;
     } else {
         writeln!(

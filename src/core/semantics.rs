@@ -491,8 +491,241 @@ impl<N: Scalar> World<N> {
     }
 }
 
+/// What a [`World::leap`] must not jump past beyond what the semantics itself decides
+/// (guards, collisions, coming to rest): the first observation within ρ and the first seen
+/// passed, which a caller that still watches for them records ([`crate::core::simulate`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Watch {
+    /// No observation within ρ may be skipped.
+    pub radius: bool,
+    /// No observation of a gap ≤ 0 may be skipped.
+    pub passed: bool,
+}
+
+/// Periods a [`World::leap`] crossed at once, and what the caller needs of them: in each of
+/// them the robot kept the mode it had, no guard fired, nothing collided or came to rest,
+/// and no observation was within ρ (when watched) or at a gap ≤ 0 (when watched).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Leap<N> {
+    /// The first period crossed.
+    pub k: usize,
+    /// How many periods were crossed (at least 1).
+    pub periods: usize,
+    /// The robot's mode at every one of their starts.
+    pub mode: Mode,
+    /// What the robot would see at the first one's start without noise if it sees anything
+    /// there; then it sees something at every one of their starts, else at none.
+    pub first_seen: Option<Observation<N>>,
+    /// The gap at the last one's end: the lowest gap of the stretch (the robot moved
+    /// throughout).
+    pub end_gap: N,
+}
+
+/// The robot's exact motion over `m` periods of one uniform mode from speed `v`: speed
+/// change per period `s` and travel per period `v_i·dt + q`; positions then sum in closed
+/// form, Σ_{i<m} (v + i·s)·dt + q = m·v·dt + s·dt·m(m−1)/2 + m·q.
+struct Uniform<N> {
+    v: N,
+    s: N,
+    q: N,
+}
+
+impl<N: Scalar> Uniform<N> {
+    /// Distance travelled over the first `m` periods.
+    fn travelled(&self, dt: &N, m: usize) -> N {
+        let m_n = N::int(m as i64);
+        let pairs = N::int((m as i64) * (m as i64 - 1) / 2);
+        m_n.clone() * self.v.clone() * dt.clone()
+            + self.s.clone() * dt.clone() * pairs
+            + m_n * self.q.clone()
+    }
+    /// Speed after `m` periods.
+    fn speed(&self, m: usize) -> N {
+        self.v.clone() + N::int(m as i64) * self.s.clone()
+    }
+}
+
+impl<N: Scalar> World<N> {
+    /// The multi-period step: crosses at once as many of the next `most` periods as can be
+    /// crossed, with the obstacle at speed `w` throughout, when every one of them is a period
+    /// in which "keep going as you are" is certain — the robot accelerating without reaching
+    /// v_max, cruising, or braking without coming to rest; no guard able to fire whatever the
+    /// observation error (every observed gap, less σ_g, beyond ρ and above 0); no gap ≤ the
+    /// clearance; nothing `watch`ed skipped; not across the first period with an
+    /// observation. The world ends exactly as `periods` calls of [`World::step_with`] leave it
+    /// (with any error aims: none of them matters there), in exact numbers; None (and the
+    /// world unchanged) when not even one period qualifies. Every condition is monotone in
+    /// the number of periods (gaps never grow), so the longest stretch is found by bisection
+    /// with exact comparisons. Only for exact number types: floats would round differently
+    /// from period-by-period arithmetic.
+    pub fn leap(&mut self, w: N, most: usize, watch: Watch) -> Option<Leap<N>> {
+        let p = &self.params;
+        let zero = N::zero();
+        if most == 0 || w < zero || self.robot.speed < zero {
+            return None;
+        }
+        let v = self.robot.speed.clone();
+        let mode = self.robot.mode;
+        let uniform = match mode {
+            Mode::Accelerate if v < p.v_max => Uniform {
+                v,
+                s: p.k.a_dt.clone(),
+                q: p.k.half_a_dt2.clone(),
+            },
+            Mode::Drive if v <= p.v_max => Uniform {
+                v,
+                s: zero.clone(),
+                q: zero.clone(),
+            },
+            Mode::Brake if v > zero => Uniform {
+                v,
+                s: -p.k.b_min_dt.clone(),
+                q: -p.k.half_b_min_dt2.clone(),
+            },
+            _ => return None,
+        };
+        // Observations: from period max(L, hidden_until) on; a leap stays on one side.
+        let sighting = p.L.max(self.hidden_until);
+        let observed = self.k >= sighting;
+        let most = if observed {
+            most
+        } else {
+            most.min(sighting - self.k)
+        };
+        let holds = |m: usize| self.leap_holds(&uniform, &w, m, observed, watch);
+        if !holds(1) {
+            return None;
+        }
+        let m = if holds(most) {
+            most
+        } else {
+            // holds(lo), !holds(hi)
+            let (mut lo, mut hi) = (1, most);
+            while hi - lo > 1 {
+                let mid = lo + (hi - lo) / 2;
+                if holds(mid) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo
+        };
+        let first_seen = if observed {
+            self.observation_if_shown()
+        } else {
+            None
+        };
+        let p = &self.params;
+        let wdt = w.clone() * p.dt.clone();
+        let gap_after = |j: usize| {
+            self.gap.clone() - N::int(j as i64) * wdt.clone() - uniform.travelled(&p.dt, j)
+        };
+        // History: the last L+1 period starts crossed (older ones stay).
+        let keep = m.min(p.L + 1);
+        let pushed: Vec<N> = (m - keep..m).map(gap_after).collect();
+        let end_gap = gap_after(m);
+        let position = self.robot.position.clone() + uniform.travelled(&p.dt, m);
+        let speed = uniform.speed(m);
+        let cap = p.L + 1;
+        for g in pushed {
+            self.gaps.push_back(g);
+            self.speeds.push_back(w.clone());
+        }
+        while self.gaps.len() > cap {
+            self.gaps.pop_front();
+        }
+        while self.speeds.len() > cap {
+            self.speeds.pop_front();
+        }
+        let leap = Leap {
+            k: self.k,
+            periods: m,
+            mode,
+            first_seen,
+            end_gap: end_gap.clone(),
+        };
+        self.robot = RobotState {
+            position,
+            speed,
+            mode,
+        };
+        self.gap = end_gap;
+        self.k += m;
+        Some(leap)
+    }
+
+    /// Whether the next `m` periods can be crossed at once ([`World::leap`]).
+    fn leap_holds(
+        &self,
+        uniform: &Uniform<N>,
+        w: &N,
+        m: usize,
+        observed: bool,
+        watch: Watch,
+    ) -> bool {
+        let p = &self.params;
+        let zero = N::zero();
+        // The mode's branch of robot_motion in every period: Accelerate stays below
+        // v_max − a·dt before its last period (v + m·a·dt < v_max), Brake above b_min·dt
+        // (v − m·b_min·dt > 0); Drive at v ≤ v_max keeps v.
+        let branch = match self.robot.mode {
+            Mode::Accelerate => uniform.speed(m) < p.v_max,
+            Mode::Brake => uniform.speed(m) > zero,
+            _ => true,
+        };
+        if !branch {
+            return false;
+        }
+        let gap_after = |j: usize| {
+            self.gap.clone()
+                - N::int(j as i64) * w.clone() * p.dt.clone()
+                - uniform.travelled(&p.dt, j)
+        };
+        // No collision: gaps fall, so the last end gap is the lowest moving one.
+        if gap_after(m) <= p.clearance {
+            return false;
+        }
+        if !observed {
+            return true;
+        }
+        // Period k observes the gap at (k−L)·dt: from the history while k−L < self.k, then
+        // in the stretch; the lowest is the last of each (gaps never grow).
+        let l = p.L;
+        let mut lowest: Option<N> = None;
+        let from_history = l.min(m);
+        for i in 0..from_history {
+            // observes g_{k+i−L}: history index from the back l − i (l ≥ 1 here).
+            let g = self.gaps[self.gaps.len() - (l - i)].clone();
+            lowest = Some(match lowest {
+                Some(x) => N::min_of(x, g),
+                None => g,
+            });
+        }
+        if m > l {
+            let g = gap_after(m - 1 - l);
+            lowest = Some(match lowest {
+                Some(x) => N::min_of(x, g),
+                None => g,
+            });
+        }
+        let Some(lowest) = lowest else {
+            return true;
+        };
+        // Whatever the error within ±σ_g, the observed gap is at least this.
+        let seen_low = lowest - p.sigma_g.clone();
+        let beyond_radius = seen_low > p.rho;
+        let not_passed = seen_low > zero;
+        match self.robot.mode {
+            // The guard fires only on a gap in (0, ρ].
+            Mode::Accelerate | Mode::Drive => beyond_radius && not_passed,
+            _ => (!watch.radius || beyond_radius) && (!watch.passed || not_passed),
+        }
+    }
+}
+
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::core::model::Problem;
     use crate::core::num::Exact;
@@ -533,6 +766,152 @@ mod tests {
 
     fn exact_of(x: f64) -> Exact {
         crate::core::num::exact_decimal(x)
+    }
+
+    /// A small deterministic generator (tests need no reproducibility beyond a fixed seed).
+    pub(crate) struct Lcg(pub(crate) u64);
+
+    impl Lcg {
+        pub(crate) fn below(&mut self, n: u64) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 33) % n
+        }
+        pub(crate) fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
+            xs[self.below(xs.len() as u64) as usize]
+        }
+    }
+
+    /// Parameters across rules, latencies, speeds, radii, noise, occlusion, weaker brakes
+    /// and start speeds.
+    pub(crate) fn random_params(rng: &mut Lcg) -> Params<crate::core::rational::Rational> {
+        let rule = rng.pick(&["paper", "kinematic", "area"]);
+        let latency = rng.below(4);
+        let dt = rng.pick(&[0.1, 0.05, 0.01, 0.25]);
+        let w = rng.pick(&[0.15, 0.3, 0.25, 0.6]);
+        let rho = rng.pick(&[1.4, 0.9, 1.6, 0.5]);
+        let mut sensing = String::new();
+        if rng.below(2) == 1 {
+            sensing += &format!(
+                "gap_noise = {}\nspeed_noise = {}\n",
+                rng.pick(&[0.002, 0.05, 0.0]),
+                rng.pick(&[0.01, 0.0, 0.1])
+            );
+        }
+        if rng.below(3) == 0 {
+            sensing += &format!("first_detection_gap = {}\n", rng.pick(&[0.4, 1.2, 2.0]));
+        }
+        let sensing = if sensing.is_empty() {
+            sensing
+        } else {
+            format!("[sensing]\n{sensing}")
+        };
+        let v0 = rng.pick(&[0.0, 0.1, 0.8]);
+        let b_min = rng.pick(&[0.5, 0.35]);
+        let text = format!(
+            "name = \"t\"\n[robot]\nmax_speed = 0.8\nacceleration = 0.3\nbraking = 0.5\n\
+             braking_min = {b_min}\ninitial_speed = {v0}\ncontrol_period = {dt}\n\
+             latency = {latency}\nclearance = {}\n[controller]\nassumed_obstacle_speed = 0.2\n\
+             reaction_radius = {rho}\ndanger_rule = \"{rule}\"\nbuffer = 0.1\n\
+             wrong_assumption_brake = {}\n[environment]\nobstacle_speed = {w}\n\
+             initial_gap = {}\n{sensing}",
+            rng.pick(&[0.0, 0.05]),
+            rng.below(2) == 1,
+            rng.pick(&[3.0, 2.5, 8.0, 30.0]),
+        );
+        Problem::from_toml_str(&text, "test")
+            .expect("valid")
+            .params()
+    }
+
+    /// The multi-period step is exactly `periods` ordinary steps: same world after, in
+    /// exact numbers, and in every step crossed the mode kept, no guard, no collision, no
+    /// rest, observations present all or none (the first as the leap says), nothing watched
+    /// skipped, the lowest gap the leap's end gap — on random states of random parameter
+    /// sets (noise, latency, occlusion, guards active) with random error aims.
+    #[test]
+    fn a_leap_is_exactly_its_periods_stepped_one_by_one() {
+        use crate::core::rational::Rational;
+        let mut rng = Lcg(12);
+        let mut leapt = [0usize; 3];
+        let mut long = [0usize; 3];
+        for _ in 0..400 {
+            let p = random_params(&mut rng);
+            let eighth = p.W.clone() / Rational::int(8);
+            let speed = |rng: &mut Lcg| eighth.clone() * Rational::int(rng.below(9) as i64);
+            let gap = Rational::int(rng.below(80) as i64 + 5) / Rational::int(10);
+            let mut world = World::with_gap(p.clone(), gap);
+            world.hide_until(rng.pick(&[0, 0, 3, 12, 40]));
+            let warmup = rng.below(60);
+            for _ in 0..warmup {
+                if world.stopped() {
+                    break;
+                }
+                let (w, react) = (speed(&mut rng), rng.below(2) == 1);
+                world.step_with(w, react);
+            }
+            for _ in 0..20 {
+                if world.stopped() {
+                    break;
+                }
+                let w = speed(&mut rng);
+                let most = rng.pick(&[1, 2, 5, 40, 400, 3000]);
+                let watch = Watch {
+                    radius: rng.below(2) == 1,
+                    passed: rng.below(2) == 1,
+                };
+                let mut stepped = world.clone();
+                let Some(leap) = world.leap(w.clone(), most, watch) else {
+                    let (w, react) = (speed(&mut rng), rng.below(2) == 1);
+                    world.step_with(w, react);
+                    continue;
+                };
+                assert!(leap.periods >= 1 && leap.periods <= most);
+                assert_eq!(leap.k, stepped.k);
+                let truth = stepped.observation();
+                let mut lowest: Option<Rational> = None;
+                for i in 0..leap.periods {
+                    let rec = stepped.step_with(w.clone(), rng.below(2) == 1);
+                    assert_eq!(rec.robot.mode, leap.mode, "mode in period {i}");
+                    assert_eq!(rec.brake, None);
+                    assert!(!rec.collision && rec.rest_gap.is_none());
+                    assert!(rec.motion.moving_for > Rational::zero());
+                    assert_eq!(rec.observation.is_some(), leap.first_seen.is_some());
+                    if let Some(obs) = &rec.observation {
+                        assert!(!watch.radius || obs.gap > p.rho);
+                        assert!(!watch.passed || obs.gap > Rational::zero());
+                    }
+                    lowest = Some(match lowest {
+                        Some(x) => Rational::min_of(x, rec.end_gap.clone()),
+                        None => rec.end_gap.clone(),
+                    });
+                }
+                if leap.first_seen.is_some() {
+                    assert_eq!(leap.first_seen, truth);
+                }
+                assert_eq!(lowest, Some(leap.end_gap.clone()));
+                assert_eq!(stepped.k, world.k);
+                assert_eq!(stepped.robot, world.robot);
+                assert_eq!(stepped.gap, world.gap);
+                assert_eq!(stepped.gaps, world.gaps);
+                assert_eq!(stepped.speeds, world.speeds);
+                assert_eq!(stepped.hidden_until, world.hidden_until);
+                let m = match leap.mode {
+                    Mode::Accelerate => 0,
+                    Mode::Drive => 1,
+                    _ => 2,
+                };
+                leapt[m] += 1;
+                if leap.periods >= 5 {
+                    long[m] += 1;
+                }
+            }
+        }
+        // Every uniform mode was leapt, and over many periods at once.
+        assert!(leapt.iter().all(|&n| n >= 20), "{leapt:?}");
+        assert!(long.iter().all(|&n| n >= 5), "{long:?}");
     }
 
     /// The facts the analyser relies on, along arbitrary obstacle behaviours: the gap never

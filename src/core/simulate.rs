@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar, exact_float};
 use crate::core::rational::Rational;
-use crate::core::semantics::{BrakeReason, Mode, StepRecord, World};
+use crate::core::semantics::{BrakeReason, Leap, Mode, Observation, StepRecord, Watch, World};
 
 /// One row of a trace: the state at a control-period start, or at the instant the robot
 /// came to rest.
@@ -180,39 +180,222 @@ fn run_world_with<N: Scalar>(
     stop_at_collision: bool,
 ) -> Run<N> {
     let mut records = Vec::new();
-    let mut outcome = RunOutcome {
-        collided: false,
-        rest_gap: None,
-        brake: None,
-        min_moving_gap: None,
-    };
+    let mut summary = RunSummary::default();
     while world.k() < max_steps && !world.stopped() {
         before(&mut world);
         let (w, react) = choose(world.k());
+        let truth = summary.truth(&world);
         let rec = world.step_with(w, react);
-        if let Some(reason) = rec.brake {
-            outcome.brake = Some((rec.k, reason));
-        }
-        if rec.motion.moving_for > N::zero() {
-            let low = rec.rest_gap.clone().unwrap_or_else(|| rec.end_gap.clone());
-            outcome.min_moving_gap = Some(match outcome.min_moving_gap.take() {
-                Some(m) => N::min_of(m, low),
-                None => low,
-            });
-        }
-        if rec.rest_gap.is_some() {
-            outcome.rest_gap = rec.rest_gap.clone();
-        }
+        summary.record(world.params(), &rec, truth);
         let hit = rec.collision;
         records.push(rec);
-        if hit {
-            outcome.collided = true;
-            if stop_at_collision {
-                break;
-            }
+        if hit && stop_at_collision {
+            break;
         }
     }
-    Run { records, outcome }
+    Run {
+        records,
+        outcome: summary.outcome,
+    }
+}
+
+/// The obstacle's speed held over `length` control periods from period `start`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(deny_unknown_fields)]
+pub struct SpeedSegment {
+    /// First period (from 0).
+    pub start: usize,
+    /// Number of periods (at least 1).
+    pub length: usize,
+    /// Speed towards the robot (m/s).
+    pub speed: f64,
+}
+
+/// The robot's mode over `length` control periods from period `start` (the mode at each
+/// period's start, as the replay's rows give it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(deny_unknown_fields)]
+pub struct ModeSegment {
+    /// First period (from 0).
+    pub start: usize,
+    /// Number of periods (at least 1).
+    pub length: usize,
+    /// The mode.
+    pub mode: Mode,
+}
+
+/// What a run showed of the obstacle at its periods' starts (steps are step indices).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sightings<N> {
+    /// The first step at whose start the robot saw the obstacle at all.
+    pub first_seen: Option<usize>,
+    /// The true gap that first sighting shows (the gap at (first_seen − L)·dt).
+    pub first_seen_gap: Option<N>,
+    /// The first step at whose start the robot saw it within ρ (passed included).
+    pub within_radius: Option<usize>,
+    /// The first step at whose start the robot saw it passed (observed gap ≤ 0).
+    pub passed: Option<usize>,
+    /// At the brake step the robot saw the obstacle faster than V_a.
+    pub seen_fast_at_brake: bool,
+}
+
+impl<N> Default for Sightings<N> {
+    fn default() -> Self {
+        Sightings {
+            first_seen: None,
+            first_seen_gap: None,
+            within_radius: None,
+            passed: None,
+            seen_fast_at_brake: false,
+        }
+    }
+}
+
+/// A run as what its checks read of it, without a record per period: its outcome, length,
+/// mode segments, sightings and the end of its trace. Built period by period from records
+/// ([`RunSummary::record`]) or from whole leaps ([`RunSummary::leap`]), alike.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary<N> {
+    /// How it ended.
+    pub outcome: RunOutcome<N>,
+    /// Periods run.
+    pub periods: usize,
+    /// The robot's mode at each period's start, as maximal segments.
+    pub modes: Vec<ModeSegment>,
+    /// What the robot saw.
+    pub sightings: Sightings<N>,
+    /// The last period run, and how far past its start the trace's last row is: the
+    /// instant of rest, or the end of a colliding period (None: the start itself).
+    last: Option<(usize, Option<N>)>,
+}
+
+impl<N> Default for RunSummary<N> {
+    fn default() -> Self {
+        RunSummary {
+            outcome: RunOutcome {
+                collided: false,
+                rest_gap: None,
+                brake: None,
+                min_moving_gap: None,
+            },
+            periods: 0,
+            modes: Vec::new(),
+            sightings: Sightings::default(),
+            last: None,
+        }
+    }
+}
+
+impl<N: Scalar> RunSummary<N> {
+    /// What a leap must not skip: the sightings not yet made.
+    pub fn watch(&self) -> Watch {
+        Watch {
+            radius: self.sightings.within_radius.is_none(),
+            passed: self.sightings.passed.is_none(),
+        }
+    }
+
+    /// The true observation at the world's next period while no sighting has been made (the
+    /// one a first sighting there shows).
+    fn truth(&self, world: &World<N>) -> Option<Observation<N>> {
+        if self.sightings.first_seen.is_none() {
+            world.observation()
+        } else {
+            None
+        }
+    }
+
+    fn push_mode(&mut self, mode: Mode, length: usize) {
+        match self.modes.last_mut() {
+            Some(last) if last.mode == mode => last.length += length,
+            _ => self.modes.push(ModeSegment {
+                start: self.periods,
+                length,
+                mode,
+            }),
+        }
+        self.periods += length;
+    }
+
+    fn lowest_moving(&mut self, low: N) {
+        self.outcome.min_moving_gap = Some(match self.outcome.min_moving_gap.take() {
+            Some(m) => N::min_of(m, low),
+            None => low,
+        });
+    }
+
+    /// Adds one period's record; `truth` is [`RunSummary::truth`] before it was stepped.
+    pub fn record(&mut self, p: &Params<N>, rec: &StepRecord<N>, truth: Option<Observation<N>>) {
+        let k = rec.k;
+        self.push_mode(rec.robot.mode, 1);
+        if let Some(reason) = rec.brake {
+            self.outcome.brake = Some((k, reason));
+        }
+        if rec.motion.moving_for > N::zero() {
+            self.lowest_moving(rec.rest_gap.clone().unwrap_or_else(|| rec.end_gap.clone()));
+        }
+        if rec.rest_gap.is_some() {
+            self.outcome.rest_gap = rec.rest_gap.clone();
+        }
+        if rec.collision {
+            self.outcome.collided = true;
+        }
+        if let Some(obs) = &rec.observation {
+            let s = &mut self.sightings;
+            if rec.brake.is_some() {
+                s.seen_fast_at_brake = obs.speed > p.V_a;
+            }
+            if s.first_seen.is_none() {
+                s.first_seen = Some(k);
+                s.first_seen_gap = truth.map(|t| t.gap);
+            }
+            if obs.gap <= p.rho {
+                s.within_radius.get_or_insert(k);
+            }
+            if obs.gap <= N::zero() {
+                s.passed.get_or_insert(k);
+            }
+        }
+        let past = if rec.rest_gap.is_some() {
+            Some(rec.motion.moving_for.clone())
+        } else if rec.collision && !rec.motion.came_to_rest() {
+            Some(p.dt.clone())
+        } else {
+            None
+        };
+        self.last = Some((k, past));
+    }
+
+    /// Adds the periods of a leap ([`World::leap`], with [`RunSummary::watch`]): moving
+    /// throughout, no brake, collision or rest, nothing watched seen.
+    pub fn leap(&mut self, leap: Leap<N>) {
+        self.push_mode(leap.mode, leap.periods);
+        self.lowest_moving(leap.end_gap);
+        if let Some(obs) = leap.first_seen
+            && self.sightings.first_seen.is_none()
+        {
+            self.sightings.first_seen = Some(leap.k);
+            self.sightings.first_seen_gap = Some(obs.gap);
+        }
+        self.last = Some((leap.k + leap.periods - 1, None));
+    }
+
+    /// The time of the trace's last row ([`trace`]); None for a run of no period.
+    pub fn end_time(&self, p: &Params<N>) -> Option<N> {
+        let (k, past) = self.last.as_ref()?;
+        let t = N::int(*k as i64) * p.dt.clone();
+        Some(match past {
+            Some(d) => t + d.clone(),
+            None => t,
+        })
+    }
+
+    /// The number of rows of the run's trace ([`trace`]).
+    pub fn trace_rows(&self) -> usize {
+        self.periods + usize::from(self.last.as_ref().is_some_and(|(_, past)| past.is_some()))
+    }
 }
 
 /// Replays obstacle speeds exactly (`speeds[k]` in period k; W after the last one) for at
@@ -238,13 +421,17 @@ pub fn replay_exact(
 }
 
 /// A witness replay: exact like [`replay_exact`], computed with `Rational` (machine words
-/// while the numbers fit, several times faster on long runs).
+/// while the numbers fit), crossing quiescent stretches at once ([`World::leap`]): what it
+/// keeps is the run's [`RunSummary`], and a record per period only when asked for
+/// ([`replay_recorded`]), for a trace.
 #[derive(Clone, Debug)]
 pub struct Replay {
     /// The run, in fast exact numbers.
-    pub run: Run<Rational>,
+    pub run: RunSummary<Rational>,
     /// The parameters it ran with.
     pub params: Params<Rational>,
+    /// A record per period, when recorded.
+    records: Option<Vec<StepRecord<Rational>>>,
 }
 
 impl Replay {
@@ -260,12 +447,35 @@ impl Replay {
 
     /// Periods run.
     pub fn periods(&self) -> usize {
-        self.run.records.len()
+        self.run.periods
+    }
+
+    /// The time of the trace's last row (None: no period run).
+    pub fn end_time(&self) -> Option<f64> {
+        self.run.end_time(&self.params).map(|t| t.shown_f64())
+    }
+
+    /// The time period `k` starts, as a trace row shows it.
+    pub fn period_start(&self, k: usize) -> f64 {
+        (Rational::int(k as i64) * self.params.dt.clone()).shown_f64()
+    }
+
+    /// The records, one per period.
+    ///
+    /// # Panics
+    /// If the replay was not recorded ([`replay_recorded`]).
+    pub fn records(&self) -> &[StepRecord<Rational>] {
+        self.records
+            .as_deref()
+            .expect("a replay recorded period by period (replay_recorded)")
     }
 
     /// The trace rows.
+    ///
+    /// # Panics
+    /// If the replay was not recorded ([`replay_recorded`]).
     pub fn trace(&self) -> Vec<TraceRow> {
-        trace(&self.params, &self.run)
+        trace_of(&self.params, self.records())
     }
 }
 
@@ -287,30 +497,191 @@ pub fn replay_reacting_at(
     max_steps: usize,
     stop_at_collision: bool,
 ) -> Replay {
-    let params: Params<Rational> = params.map(Rational::from_exact);
-    let tail = params.W.clone();
-    let run = run_reacting_at(
-        params.clone(),
-        |k| {
-            speeds
-                .get(k)
-                .map(|&w| Rational::from_exact(&exact_float(w)))
-                .unwrap_or_else(|| tail.clone())
-        },
+    let tail = Rational::from_exact(&params.W);
+    replay_from(
+        params,
+        speeds,
+        tail,
         aim,
         max_steps,
         stop_at_collision,
-    );
-    Replay { run, params }
+        false,
+    )
+}
+
+/// [`replay_reacting_at`] with `tail` (not W) as the speed after the listed ones.
+pub fn replay_with_tail(
+    params: &Params<Exact>,
+    speeds: &[f64],
+    tail: f64,
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Replay {
+    let tail = Rational::from_exact(&exact_float(tail));
+    replay_from(
+        params,
+        speeds,
+        tail,
+        aim,
+        max_steps,
+        stop_at_collision,
+        false,
+    )
+}
+
+/// [`replay_reacting_at`] period by period, keeping a record of each (for a trace: grows
+/// with the horizon).
+pub fn replay_recorded(
+    params: &Params<Exact>,
+    speeds: &[f64],
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+) -> Replay {
+    let tail = Rational::from_exact(&params.W);
+    replay_from(
+        params,
+        speeds,
+        tail,
+        aim,
+        max_steps,
+        stop_at_collision,
+        true,
+    )
+}
+
+/// The replay: `speeds[k]` in period k and `tail` after them, with the environment's
+/// [`Aim`], for at most `max_steps` periods until the robot rests (or, with
+/// `stop_at_collision`, collides). Unrecorded, each constant-speed stretch is offered to
+/// [`World::leap`] first, and stepped period by period where it declines.
+fn replay_from(
+    params: &Params<Exact>,
+    speeds: &[f64],
+    tail: Rational,
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+    record: bool,
+) -> Replay {
+    // Constant-speed runs: (end, speed), the tail endless.
+    let mut runs: Vec<(usize, f64)> = Vec::new();
+    for (k, &w) in speeds.iter().enumerate() {
+        match runs.last_mut() {
+            Some(last) if last.1.to_bits() == w.to_bits() => last.0 = k + 1,
+            _ => runs.push((k + 1, w)),
+        }
+    }
+    replay_runs(
+        params,
+        &runs,
+        tail,
+        aim,
+        max_steps,
+        stop_at_collision,
+        record,
+    )
+}
+
+/// [`replay_reacting_at`] of speeds given as contiguous segments from period 0, with `tail`
+/// after them (None: W), leaping unless `record`ed ([`replay_recorded`]).
+pub fn replay_segments(
+    params: &Params<Exact>,
+    segments: &[SpeedSegment],
+    tail: Option<f64>,
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+    record: bool,
+) -> Replay {
+    let tail = match tail {
+        Some(t) => Rational::from_exact(&exact_float(t)),
+        None => Rational::from_exact(&params.W),
+    };
+    let runs: Vec<(usize, f64)> = segments
+        .iter()
+        .map(|s| (s.start + s.length, s.speed))
+        .collect();
+    replay_runs(
+        params,
+        &runs,
+        tail,
+        aim,
+        max_steps,
+        stop_at_collision,
+        record,
+    )
+}
+
+/// The replay of constant-speed `runs` ((end, speed), in order from period 0), then `tail`.
+fn replay_runs(
+    params: &Params<Exact>,
+    runs: &[(usize, f64)],
+    tail: Rational,
+    aim: Aim,
+    max_steps: usize,
+    stop_at_collision: bool,
+    record: bool,
+) -> Replay {
+    let params: Params<Rational> = params.map(Rational::from_exact);
+    let mut run = 0;
+    let mut speed: Option<Rational> = None;
+    let mut world = World::new(params.clone());
+    world.hide_until(aim.hidden_until);
+    let mut summary = RunSummary::default();
+    let mut records = record.then(Vec::new);
+    while world.k() < max_steps && !world.stopped() {
+        let k = world.k();
+        while run < runs.len() && runs[run].0 <= k {
+            run += 1;
+            speed = None;
+        }
+        let (end, w) = match runs.get(run) {
+            Some(&(end, w)) => (
+                end,
+                speed
+                    .get_or_insert_with(|| Rational::from_exact(&exact_float(w)))
+                    .clone(),
+            ),
+            None => (usize::MAX, tail.clone()),
+        };
+        if records.is_none()
+            && let Some(leap) = world.leap(w.clone(), end.min(max_steps) - k, summary.watch())
+        {
+            summary.leap(leap);
+            continue;
+        }
+        let react = aim.react_at.is_some_and(|t| k >= t);
+        let truth = summary.truth(&world);
+        let rec = world.step_with(w, react);
+        summary.record(&params, &rec, truth);
+        let hit = rec.collision;
+        if let Some(r) = records.as_mut() {
+            r.push(rec);
+        }
+        if hit && stop_at_collision {
+            break;
+        }
+    }
+    Replay {
+        run: summary,
+        params,
+        records,
+    }
 }
 
 /// The trace of a run: a row at every period start, and one at the instant the robot came
 /// to rest (or, after a collision, at the end of the colliding period). Times are written
 /// without the noise of float arithmetic (k·dt is 2.3, not 2.3000000000000003).
 pub fn trace<N: Scalar>(params: &Params<N>, run: &Run<N>) -> Vec<TraceRow> {
+    trace_of(params, &run.records)
+}
+
+/// The trace of a run's records ([`trace`]).
+pub fn trace_of<N: Scalar>(params: &Params<N>, records: &[StepRecord<N>]) -> Vec<TraceRow> {
     let mut rows = Vec::new();
-    let last = run.records.len().saturating_sub(1);
-    for (i, rec) in run.records.iter().enumerate() {
+    let last = records.len().saturating_sub(1);
+    for (i, rec) in records.iter().enumerate() {
         let t = N::int(rec.k as i64) * params.dt.clone();
         rows.push(TraceRow {
             t: t.shown_f64(),

@@ -8,7 +8,6 @@ use crate::proof::program::ProofKind;
 use crate::proof::schedule::{Decomposition, Piece};
 use crate::proof::separation::{Stated, settle};
 use crate::proof::verdict::{Verdict, Witness, rows_match};
-use crate::proof::witness_runs::mode_segments;
 use crate::proof::witness_schedule::replay_realises;
 
 /// What `check` established.
@@ -186,8 +185,10 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
     let bound = &params.W;
     if let Some(k) = w
         .obstacle_speeds
+        .segments()
         .iter()
-        .position(|&s| s.is_nan() || s < 0.0 || crate::core::num::exact_float(s) > *bound)
+        .find(|s| outside(s.speed, bound))
+        .map(|s| s.start)
     {
         return invalid(format!("witness speed in period {k} is outside [0, W]"));
     }
@@ -203,22 +204,20 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
              early entry has one to choose",
         );
     }
-    let replay = simulate::replay_reacting_at(
-        params,
-        &w.obstacle_speeds,
-        w.aim(),
-        w.obstacle_speeds.len(),
-        false,
-    );
-    if replay.periods() != w.obstacle_speeds.len() {
+    let speeds = w.obstacle_speeds.segments();
+    let periods = w.obstacle_speeds.len();
+    let replay = simulate::replay_segments(params, speeds, None, w.aim(), periods, false, false);
+    if replay.periods() != periods {
         return invalid("witness lists speeds past the end of its run");
     }
-    if mode_segments(replay.run.records.iter().map(|r| r.robot.mode)) != w.robot_modes {
+    if replay.run.modes != w.robot_modes {
         return invalid("witness robot modes differ from its exact replay");
     }
-    // The per-period rows are optional (`certify --steps`); when present they must match.
+    // The per-period rows are optional (`certify --steps`); when present they must match
+    // the replay recorded period by period (the same run, every period stepped).
     let same = w.steps.is_empty() || {
-        let steps = replay.trace();
+        let steps =
+            simulate::replay_segments(params, speeds, None, w.aim(), periods, false, true).trace();
         steps.len() == w.steps.len() && steps.iter().zip(&w.steps).all(|(a, b)| rows_match(a, b))
     };
     if !same {
@@ -238,4 +237,22 @@ fn check_witness(cert: &Certificate, w: &Witness, dec: &Decomposition) -> Result
         return invalid("never_stops requires a witness that collides without stopping");
     }
     Ok(replay.collided())
+}
+
+/// The first period whose speed is outside [0, `bound`] (NaN included), exactly; each run
+/// of equal speeds is judged once, so a long constant stretch costs one comparison.
+pub(crate) fn first_outside(speeds: &[f64], bound: &Exact) -> Option<usize> {
+    let mut judged: Option<u64> = None;
+    speeds.iter().position(|&s| {
+        if judged == Some(s.to_bits()) {
+            return false;
+        }
+        judged = Some(s.to_bits());
+        outside(s, bound)
+    })
+}
+
+/// Whether a speed is outside [0, `bound`] (NaN included), exactly.
+fn outside(s: f64, bound: &Exact) -> bool {
+    s.is_nan() || s < 0.0 || crate::core::num::exact_float(s) > *bound
 }

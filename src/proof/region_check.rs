@@ -14,7 +14,7 @@
 //! 6. the stated coverage follows from the leaves.
 
 use crate::core::model::Problem;
-use crate::core::num::{Exact, exact_float, f64_at_most};
+use crate::core::num::{Exact, f64_at_most};
 use crate::core::param_box::ParamBox;
 use crate::core::parameter::{ParamAffine, Parameter};
 use crate::core::simulate;
@@ -361,11 +361,7 @@ fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(
     at.validate("the refuted point")
         .map_err(|e| Invalid(format!("the refuted point's problem is invalid: {e}")))?;
     let params = at.params::<Exact>();
-    if let Some(k) = r
-        .obstacle_speeds
-        .iter()
-        .position(|&s| s.is_nan() || s < 0.0 || exact_float(s) > params.W)
-    {
+    if let Some(k) = crate::proof::check::first_outside(&r.obstacle_speeds, &params.W) {
         return invalid(format!(
             "the behaviour's speed in period {k} is outside [0, W]"
         ));

@@ -63,12 +63,7 @@ pub struct Witness {
     pub margin: f64,
     /// The obstacle's speed in each control period (after the last: W); stored in files as
     /// constant-speed segments ([`crate::proof::witness_runs::SpeedSegment`]).
-    #[serde(with = "crate::proof::witness_runs::as_segments")]
-    #[cfg_attr(
-        feature = "schema",
-        schemars(with = "Vec<crate::proof::witness_runs::SpeedSegment>")
-    )]
-    pub obstacle_speeds: Vec<f64>,
+    pub obstacle_speeds: crate::proof::witness_runs::Speeds,
     /// The robot's mode over the run, as segments of periods (`check` holds them to the
     /// replay).
     pub robot_modes: Vec<ModeSegment>,
@@ -81,9 +76,10 @@ pub struct Witness {
     pub collides: bool,
     /// Gap when the robot came to rest (None: it never stopped before colliding).
     pub separation: Option<f64>,
-    /// One row at every period start plus the instant the robot came to rest: kept in
-    /// memory by the analyser, written to a file only when asked (`certify --steps`), since
-    /// it grows with the horizon. `check` compares it with the replay when present.
+    /// One row at every period start plus the instant the robot came to rest: written only
+    /// when asked (`certify --steps`, which replays the witness period by period for them),
+    /// since it grows with the horizon; empty in the analyser's witness. `check` compares
+    /// it with the replay when present.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<TraceRow>,
 }

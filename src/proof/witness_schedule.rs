@@ -9,7 +9,7 @@
 use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar};
 use crate::core::semantics::{BrakeReason, Observation};
-use crate::core::simulate::Replay;
+use crate::core::simulate::{Replay, RunSummary};
 use crate::proof::schedule::{Ending, Piece};
 
 /// What a replayed run shows of one obstacle's schedule (steps are step indices).
@@ -36,6 +36,19 @@ impl RunSchedule {
         match first {
             Some(k) => k == step || (by && k < step),
             None => self.steps <= step,
+        }
+    }
+
+    /// The schedule of a run from its summary (what the robot saw, as it was seen).
+    pub fn of_summary<N: Scalar>(run: &RunSummary<N>) -> RunSchedule {
+        let s = &run.sightings;
+        RunSchedule {
+            brake: run.outcome.brake,
+            first_seen: s.first_seen,
+            within_radius: s.within_radius,
+            passed: s.passed,
+            steps: run.periods,
+            seen_fast_at_brake: s.seen_fast_at_brake,
         }
     }
 
@@ -175,13 +188,7 @@ pub fn replay_realises(
     piece: &Piece,
     shift: usize,
 ) -> Result<(), String> {
-    let run = &replay.run;
-    let schedule = RunSchedule::of(
-        run.records.iter().map(|r| r.observation.as_ref()),
-        run.outcome.brake,
-        &replay.params.rho,
-        &replay.params.V_a,
-    );
+    let schedule = RunSchedule::of_summary(&replay.run);
     if !piece.has_objective() && !params.noisy() && schedule.passed.is_none() {
         // A single-obstacle pass-through replays to the step it claims (with noise the
         // errors decide when it is seen passed; see [`realises`]).
@@ -199,8 +206,8 @@ pub fn replay_realises(
         let seen = schedule
             .first_seen
             .and_then(|k| k.checked_sub(params.L))
-            .and_then(|k| run.records.get(k));
-        if seen.is_none_or(|r| r.gap.to_exact() < *d_det) {
+            .and(replay.run.sightings.first_seen_gap.as_ref());
+        if seen.is_none_or(|g| g.to_exact() < *d_det) {
             return Err("the witness's obstacle is first seen at a true gap below \
                         sensing.first_detection_gap, which the problem rules out"
                 .into());
@@ -241,6 +248,58 @@ mod tests {
             merged: false,
             early: false,
             detected: false,
+        }
+    }
+
+    /// The leaping replay keeps what the per-period one shows: the same summary (outcome,
+    /// periods, mode segments, sightings, trace end), whose schedule is the one read from
+    /// the records, whose first sighting's true gap is the record's, on random speed
+    /// segments, aims and parameter sets (noise, latency, occlusion, guards active).
+    #[test]
+    fn the_leaping_replay_summarises_the_recorded_one() {
+        use crate::core::num::Exact;
+        use crate::core::semantics::tests::{Lcg, random_params};
+        use crate::core::simulate::{Aim, replay_reacting_at, replay_recorded};
+        use crate::proof::witness_runs::mode_segments;
+        let mut rng = Lcg(7);
+        for _ in 0..300 {
+            let params: Params<Exact> = random_params(&mut rng).map(|x| x.to_exact());
+            let w = params.W.to_f64().value();
+            let mut speeds = Vec::new();
+            for _ in 0..rng.below(5) + 1 {
+                let len = rng.pick(&[1, 3, 40, 700, 3000]);
+                let s = rng.pick(&[0.0, 0.125, 0.5, 0.875, 1.0]) * w;
+                speeds.extend(std::iter::repeat_n(s, len));
+            }
+            let aim = Aim {
+                react_at: rng.pick(&[None, Some(0), Some(15), Some(200), Some(2500)]),
+                hidden_until: rng.pick(&[0, 0, 5, 60, 900]),
+            };
+            let max_steps = speeds.len() + rng.pick(&[0, 10, 5000]) as usize;
+            let stop = rng.below(2) == 1;
+            let recorded = replay_recorded(&params, &speeds, aim, max_steps, stop);
+            let leaping = replay_reacting_at(&params, &speeds, aim, max_steps, stop);
+            assert_eq!(leaping.run, recorded.run);
+            let records = recorded.records();
+            assert_eq!(recorded.periods(), records.len());
+            assert_eq!(
+                recorded.run.modes,
+                mode_segments(records.iter().map(|r| r.robot.mode))
+            );
+            let schedule = RunSchedule::of(
+                records.iter().map(|r| r.observation.as_ref()),
+                recorded.run.outcome.brake,
+                &recorded.params.rho,
+                &recorded.params.V_a,
+            );
+            assert_eq!(RunSchedule::of_summary(&leaping.run), schedule);
+            let seen_gap = schedule
+                .first_seen
+                .map(|k| records[k - params.L].gap.clone());
+            assert_eq!(leaping.run.sightings.first_seen_gap, seen_gap);
+            let rows = recorded.trace();
+            assert_eq!(leaping.run.trace_rows(), rows.len());
+            assert_eq!(leaping.end_time(), rows.last().map(|r| r.t));
         }
     }
 

@@ -207,7 +207,7 @@ fn check_witness_and_verdict(spec: &Spec, a: &Analysis) -> Result<(), TestCaseEr
     let params: Params<Exact> = p.params();
     let clearance = params.clearance.clone();
     if let Some(w) = &a.witness {
-        let speeds = &w.obstacle_speeds;
+        let speeds = &w.obstacle_speeds.to_vec();
         for (k, &s) in speeds.iter().enumerate() {
             prop_assert!(
                 s >= 0.0 && exact_float(s) <= params.W,
@@ -295,7 +295,7 @@ fn check_witness_and_verdict(spec: &Spec, a: &Analysis) -> Result<(), TestCaseEr
             let w = a.witness.as_ref();
             prop_assert!(w.is_some(), "refuted without a witness: {spec:?}");
             let w = w.unwrap();
-            let run = replay(&params, &w.obstacle_speeds);
+            let run = replay(&params, &w.obstacle_speeds.to_vec());
             prop_assert!(
                 run.outcome.collided,
                 "refuting witness does not collide: {spec:?}"
@@ -707,12 +707,12 @@ fn refuted_problems_have_colliding_witnesses() {
             a.min_separation
         );
         let w = a.witness.as_ref().expect("refuted has a witness");
-        let run = replay(&p.params(), &w.obstacle_speeds);
+        let run = replay(&p.params(), &w.obstacle_speeds.to_vec());
         assert!(run.outcome.collided, "{spec:?}");
         // The same behaviour in floats collides as well (the simulator agrees).
         let fast = safereach::core::simulate::run(
             p.params::<f64>(),
-            |k| w.obstacle_speeds.get(k).copied().unwrap_or(spec.w),
+            |k| w.obstacle_speeds.get(k).unwrap_or(spec.w),
             w.obstacle_speeds.len(),
             true,
         );
@@ -747,7 +747,7 @@ fn cross_replay(from: &Analysis, to: &Analysis) -> Option<Exact> {
     let params: Params<Exact> = to.problem.params();
     // The witness lists speeds up to its own rest; the replay holds W_to after them, which
     // only matters when `to` stops later.
-    replay(&params, &w.obstacle_speeds)
+    replay(&params, &w.obstacle_speeds.to_vec())
         .outcome
         .rest_gap
         .filter(|_| w.separation.is_some())
@@ -843,7 +843,7 @@ fn a_faster_obstacle_is_never_safer_regression() {
 /// of problems across every rule, latency and both sides of the safe radius.
 #[test]
 fn fast_replay_equals_big_rational_replay() {
-    use safereach::core::simulate::{replay, replay_exact, trace};
+    use safereach::core::simulate::{Aim, replay, replay_exact, replay_recorded, trace};
     let mut compared = 0;
     for rule in [DangerRule::Paper, DangerRule::Kinematic, DangerRule::Area] {
         for latency in 0..3 {
@@ -858,12 +858,21 @@ fn fast_replay_equals_big_rational_replay() {
                 let Some(wit) = a.witness else { continue };
                 let params = p.params::<safereach::core::num::Exact>();
                 let n = wit.obstacle_speeds.len();
-                let big = replay_exact(&params, &wit.obstacle_speeds, n, false);
-                let fast = replay(&params, &wit.obstacle_speeds, n, false);
+                let big = replay_exact(&params, &wit.obstacle_speeds.to_vec(), n, false);
+                let fast = replay_recorded(
+                    &params,
+                    &wit.obstacle_speeds.to_vec(),
+                    Aim::default(),
+                    n,
+                    false,
+                );
                 assert_eq!(fast.periods(), big.records.len());
                 assert_eq!(fast.collided(), big.outcome.collided);
                 assert_eq!(fast.rest_gap(), big.outcome.rest_gap);
-                for (f, b) in fast.run.records.iter().zip(&big.records) {
+                // The leaping replay is the same run: the same summary.
+                let leaping = replay(&params, &wit.obstacle_speeds.to_vec(), n, false);
+                assert_eq!(leaping.run, fast.run);
+                for (f, b) in fast.records().iter().zip(&big.records) {
                     assert_eq!(f.end_gap.to_exact(), b.end_gap);
                     assert_eq!(f.motion.end.position.to_exact(), b.motion.end.position);
                     assert_eq!(f.brake, b.brake);

@@ -307,6 +307,7 @@ fn witness_speed_sets_give_the_analysers_minimum() {
                         }
                         let mut list: Vec<Exact> = witness
                             .obstacle_speeds
+                            .to_vec()
                             .iter()
                             .map(|&x| exact_float(x))
                             .collect();

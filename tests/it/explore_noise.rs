@@ -216,6 +216,7 @@ fn refutations_are_found(problems: impl Iterator<Item = Problem>) -> (usize, usi
         let w = p.params::<Exact>().W;
         let mut list: Vec<Exact> = witness
             .obstacle_speeds
+            .to_vec()
             .iter()
             .map(|&x| exact_float(x))
             .collect();

@@ -43,7 +43,7 @@ fn piece_realised_by(problem: &Problem, w: &Witness) -> (Piece, usize) {
     let dec = Decomposition::new(problem);
     let plain = simulate::replay(
         &dec.params,
-        &w.obstacle_speeds,
+        &w.obstacle_speeds.to_vec(),
         w.obstacle_speeds.len(),
         false,
     );
@@ -55,7 +55,7 @@ fn piece_realised_by(problem: &Problem, w: &Witness) -> (Piece, usize) {
         .find(|(p, shift)| {
             let replay = simulate::replay_reacting_at(
                 &dec.params,
-                &w.obstacle_speeds,
+                &w.obstacle_speeds.to_vec(),
                 aim(p, *shift, None),
                 w.obstacle_speeds.len(),
                 false,

@@ -13,7 +13,10 @@ pub(crate) const MAX_MAGNITUDE: f64 = 1e9;
 /// Largest latency accepted, in control periods.
 pub(crate) const MAX_LATENCY: u32 = 1000;
 /// Most control periods a problem may need: to cover the initial gap at top speed, to reach
-/// top speed, or to stop from it.
+/// top speed, or to stop from it. It bounds whatever walks periods — the analyser's programs
+/// (a variable per period), per-period speed lists, simulations, explorers, scene replays and
+/// searches; the single-obstacle witness replay leaps over quiescent stretches and does not
+/// need it (docs/certificates.md §6).
 pub(crate) const MAX_PERIODS: f64 = 1e6;
 
 /// The type a key's value must have.

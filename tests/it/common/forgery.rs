@@ -9,6 +9,7 @@ use safereach::proof::certificate::{Certificate, check, premises};
 use safereach::proof::program::ProofKind;
 use safereach::proof::schedule::{Decomposition, Ending};
 use safereach::proof::verdict::Verdict;
+use safereach::proof::witness_runs::Speeds;
 
 /// An edit to a certificate; `None` when it does not apply to this certificate.
 pub type Edit = fn(&mut Certificate) -> Option<()>;
@@ -39,9 +40,11 @@ fn change_witness_speed(c: &mut Certificate) -> Option<()> {
         return None;
     }
     let w = c.witness.as_mut()?;
-    let k = w.obstacle_speeds.len().checked_sub(3)?;
-    let s = &mut w.obstacle_speeds[k];
+    let mut speeds = w.obstacle_speeds.to_vec();
+    let k = speeds.len().checked_sub(3)?;
+    let s = &mut speeds[k];
     *s = if *s > w_max / 2.0 { 0.0 } else { w_max };
+    w.obstacle_speeds = Speeds::from_periods(&speeds);
     Some(())
 }
 
@@ -271,12 +274,15 @@ pub const FORGERIES: &[(&str, Edit)] = &[
     ("a witness speed above W", |c| {
         let w_max = c.problem.environment.obstacle_speed;
         let w = c.witness.as_mut()?;
-        *w.obstacle_speeds.first_mut()? = w_max * 1.5 + 0.01;
+        let mut speeds = w.obstacle_speeds.to_vec();
+        *speeds.first_mut()? = w_max * 1.5 + 0.01;
+        w.obstacle_speeds = Speeds::from_periods(&speeds);
         Some(())
     }),
     ("witness speeds cut short", |c| {
         let w = c.witness.as_mut()?;
-        w.obstacle_speeds.pop()?;
+        let n = w.obstacle_speeds.len().checked_sub(1)?;
+        w.obstacle_speeds.resize(n, 0.0);
         Some(())
     }),
     ("a robot mode segment moved by one period", |c| {
