@@ -1,0 +1,185 @@
+"""The Python package against independent answers: the closed form of the safe radius, the
+exact check, the monitor's README example, and the command line's messages for bad input."""
+
+import json
+import math
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import safereach as sr
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SEED = ROOT / "problems" / "seed.toml"
+
+
+def seed(**sets):
+    p = sr.Problem.from_file(str(SEED))
+    for key, value in sets.items():
+        p.set(key.replace("__", "."), value)
+    return p
+
+
+def test_certify_and_check_round_trip_through_json():
+    cert = sr.certify(seed())
+    assert cert.verdict == "certified"
+    assert cert.lower_bound <= cert.min_separation
+    assert abs(cert.min_separation - 0.33) < 1e-6
+    assert sr.check(cert) == "certified"
+    again = sr.Certificate.from_json(cert.to_json())
+    assert sr.check(again) == "certified"
+    assert again.to_json() == cert.to_json()
+    names = [p["name"] for p in cert.premises]
+    assert "obstacle_speed" in names and "latency" in names
+
+
+def test_the_json_is_what_the_command_line_writes(tmp_path):
+    out = tmp_path / "cli.json"
+    binary = ROOT / "target" / "release" / "safereach"
+    if not binary.exists():
+        pytest.skip("the safereach binary is not built")
+    subprocess.run([str(binary), "certify", str(SEED), "--out", str(out)], check=True,
+                   stdout=subprocess.DEVNULL)
+    assert sr.certify(seed()).to_json() == out.read_text()
+
+
+def test_a_tampered_certificate_is_rejected_with_the_reason():
+    data = json.loads(sr.certify(seed()).to_json())
+    data["lower_bound"] = data["lower_bound"] + 1.0
+    forged = sr.Certificate.from_json(json.dumps(data))
+    with pytest.raises(sr.CertificateError) as e:
+        sr.check(forged)
+    assert "digest" in str(e.value) or "bound" in str(e.value)
+    with pytest.raises(sr.CertificateError):
+        sr.Monitor(forged)
+
+
+def test_a_refutation_carries_a_colliding_witness():
+    cert = sr.certify(seed(environment__obstacle_speed=0.3))
+    assert cert.verdict == "refuted"
+    assert cert.witness["collides"] is True
+    assert sr.check(cert) == "refuted"
+
+
+def test_safe_radius_matches_the_brake_on_entry_closed_form():
+    # Rule `area`, latency 0, a robot cruising from the start: rho* = v^2/(2b) + W v/b
+    # + (v + W) dt + clearance (KeYmaera X's form, as the Rust tests use it).
+    v, b, dt = 0.2, 0.05, 0.1
+    for w in (0.05, 0.1, 0.15):
+        p = seed(controller__danger_rule="area", robot__latency=0, robot__initial_speed=v)
+        p.set("controller.wrong_assumption_brake", False)
+        closed = v * v / (2 * b) + w * v / b + (v + w) * dt
+        got = sr.safe_radius(p, [w])[0]
+        assert got == pytest.approx(closed, abs=2e-6), (w, got, closed)
+    single = sr.safe_radius(seed())
+    assert isinstance(single, float)
+
+
+def test_max_speed_is_where_certify_changes_its_answer():
+    w = sr.max_speed(seed())
+    assert w is not None and 0.0 < w < 1.0
+    assert sr.certify(seed(environment__obstacle_speed=w - 1e-4)).verdict == "certified"
+    assert sr.certify(seed(environment__obstacle_speed=w + 1e-4)).verdict != "certified"
+
+
+def test_problems_from_text_and_dict_and_scenes():
+    text = SEED.read_text()
+    assert sr.Problem(text).name == "seed"
+    import tomllib
+    d = tomllib.loads(text)
+    assert sr.certify(sr.problem_from_dict(d)).verdict == "certified"
+    scene = sr.Problem.from_file(str(ROOT / "problems" / "seed-lanes.toml"))
+    assert scene.is_scene
+    cert = sr.certify(scene)
+    assert cert.verdict == "certified" and sr.check(cert) == "certified"
+
+
+def test_bad_input_raises_with_the_command_lines_message():
+    with pytest.raises(sr.InputError) as e:
+        seed(robot__braking=-1.0)
+    assert "robot.braking" in str(e.value) and "> 0" in str(e.value)
+    p = seed()
+    with pytest.raises(sr.InputError) as e:
+        p.set("robot.no_such_key", 1.0)
+    assert "no_such_key" in str(e.value)
+    with pytest.raises(sr.InputError) as e:
+        p.set("environment.obstacle_speed", math.inf)
+    assert "obstacle_speed" in str(e.value)
+    assert sr.certify(p).verdict == "certified", "a refused set leaves the problem as it was"
+    with pytest.raises(sr.InputError) as e:
+        sr.Problem.from_file(str(ROOT / "no-such-file.toml"))
+    assert "no-such-file.toml" in str(e.value)
+    with pytest.raises(sr.InputError):
+        sr.Certificate.from_json("[1, 2]")
+
+
+def read_trace(path):
+    header, *rows = path.read_text().splitlines()
+    cols = header.split(",")
+    return [dict(zip(cols, r.split(","))) for r in rows]
+
+
+def test_the_monitor_flags_the_seeds_run_at_025_as_the_command_line_does(tmp_path):
+    """The README's worked example: certified for W = 0.2, run at up to 0.25."""
+    cert = sr.certify(seed(environment__obstacle_speed=0.2))
+    trace = ROOT / "tests" / "fixtures" / "seed-w0.25.run.csv"
+    rows = read_trace(trace)
+    m = sr.Monitor(cert)
+    first = None
+    for r in rows:
+        verdict, events = m.observe(float(r["t"]), float(r["robot_x"]), float(r["robot_v"]),
+                                    float(r["obstacle_x"]), obstacle_v=float(r["obstacle_v"]),
+                                    robot_mode=r["robot_mode"])
+        if events and first is None:
+            first = events[0]
+    assert m.verdict == "violated"
+    assert first["premise"] == "obstacle_speed" and first["action"] == "brake"
+    assert first["observed"] > first["bound"] == pytest.approx(0.2)
+    summary = m.summary()
+    assert summary["verdict"] == "violated" and summary["samples"] == len(rows)
+
+    binary = ROOT / "target" / "release" / "safereach"
+    if not binary.exists():
+        pytest.skip("the safereach binary is not built")
+    path = tmp_path / "cert.json"
+    path.write_text(cert.to_json())
+    out = subprocess.run([str(binary), "monitor", "--certificate", str(path), str(trace),
+                          "--json"], capture_output=True, text=True)
+    assert out.returncode == 1
+    cli = json.loads(out.stdout.splitlines()[-1])["summary"]
+    assert cli["violations"] == summary["violations"]
+    assert cli["first_violation"]["t"] == first["t"]
+    assert cli["first_violation"]["observed"] == first["observed"]
+
+
+def test_observe_many_equals_observe_one_by_one():
+    cert = sr.certify(seed(environment__obstacle_speed=0.2))
+    rows = read_trace(ROOT / "tests" / "fixtures" / "seed-w0.25.run.csv")
+    col = lambda k: np.array([float(r[k]) for r in rows])
+    one = sr.Monitor(cert)
+    singles = []
+    for i, r in enumerate(rows):
+        _, events = one.observe(float(r["t"]), float(r["robot_x"]),
+                                float(r["robot_v"]), float(r["obstacle_x"]))
+        singles += [(i, e) for e in events]
+    many = sr.Monitor(cert)
+    verdict, events = many.observe_many(col("t"), col("robot_x"), col("robot_v"),
+                                        col("obstacle_x"))
+    assert verdict == one.verdict == "violated"
+    assert events == singles
+    assert many.summary() == one.summary()
+    with pytest.raises(sr.InputError):
+        many.observe_many(col("t"), col("robot_x")[:3], col("robot_v"),
+                          col("obstacle_x"))
+
+
+def test_a_ros_style_node_brakes_when_the_monitor_says_so():
+    from node_example import MonitorNode
+    cert = sr.certify(seed(environment__obstacle_speed=0.2))
+    node = MonitorNode(cert)
+    for r in read_trace(ROOT / "tests" / "fixtures" / "seed-w0.25.run.csv"):
+        node.on_message(float(r["t"]), float(r["robot_x"]), float(r["robot_v"]),
+                        float(r["obstacle_x"]))
+    assert node.commanded == "brake" and node.first_violation["premise"] == "obstacle_speed"
