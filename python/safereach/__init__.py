@@ -17,9 +17,11 @@ from ._safereach import (
     InputError,
     Monitor,
     Problem,
+    RegionMap,
     certify,
     check,
     max_speed,
+    region,
     safe_radius,
 )
 
@@ -34,6 +36,8 @@ __all__ = [
     "check",
     "max_speed",
     "problem_from_dict",
+    "RegionMap",
+    "region",
     "safe_radius",
 ]
 

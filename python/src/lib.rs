@@ -9,14 +9,19 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
+use safereach::analysis::region_search::{RegionOptions, map_region};
 use safereach::analysis::scene_answer::SceneAnswer;
 use safereach::analysis::{self, radius};
 use safereach::core::model::Problem as LibProblem;
+use safereach::core::param_box::{Axis, ParamBox};
+use safereach::core::parameter::Parameter;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
 use safereach::monitor::{Monitor as LibMonitor, Sample};
 use safereach::proof::certificate::Certificate as LibCertificate;
 use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::region_check::check_map;
+use safereach::proof::region_map::RegionMap as LibRegionMap;
 
 create_exception!(
     _safereach,
@@ -357,6 +362,97 @@ fn max_speed(py: Python<'_>, problem: &Problem) -> PyResult<Option<f64>> {
         .map_err(|e| AnalysisError::new_err(e.to_string()))
 }
 
+/// A certified map of a box of parameters: leaves certified for every point in them, refuted
+/// or undecided (`safereach region`).
+#[pyclass(module = "safereach")]
+struct RegionMap {
+    map: LibRegionMap,
+    json: Value,
+}
+
+#[pymethods]
+impl RegionMap {
+    /// Reads map JSON (as `region --out` writes it); it is not checked until `check`.
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        let map: LibRegionMap = serde_json::from_str(text)
+            .map_err(|e| InputError::new_err(format!("region map: {e}")))?;
+        let json = serde_json::to_value(&map).expect("maps serialise");
+        Ok(RegionMap { map, json })
+    }
+
+    /// The leaves: dicts with `box` (each ranged key to [lo, hi]), `verdict`, bound, proof.
+    #[getter]
+    fn leaves(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        to_py(py, &self.json["leaves"])
+    }
+
+    /// Fractions of the box certified, refuted and undecided.
+    #[getter]
+    fn coverage(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        to_py(py, &self.json["coverage"])
+    }
+
+    /// Re-verifies every leaf exactly, without the solver; returns whether the whole box is
+    /// certified, or raises CertificateError with the reason the map is not valid.
+    fn check(&self, py: Python<'_>) -> PyResult<bool> {
+        let map = self.map.clone();
+        py.detach(move || check_map(&map).map(|r| r.all_certified))
+            .map_err(|e| CertificateError::new_err(e.to_string()))
+    }
+
+    /// The map as JSON text (as `region --out` writes it).
+    fn to_json(&self) -> String {
+        serde_json::to_string(&self.map).expect("maps serialise") + "\n"
+    }
+}
+
+/// Maps `problem` over the box `ranges` ({key: (lo, hi)}, e.g. {"environment.obstacle_speed":
+/// (0.1, 0.3)}): boxes that do not certify are split down to `depth`. The GIL is released.
+#[pyfunction]
+#[pyo3(signature = (problem, ranges, depth = 12, min_width = 0.0))]
+fn region(
+    py: Python<'_>,
+    problem: &Problem,
+    ranges: &Bound<'_, PyDict>,
+    depth: u32,
+    min_width: f64,
+) -> PyResult<RegionMap> {
+    let p = single(problem, "region")?;
+    let axes = ranges
+        .iter()
+        .map(|(key, span)| {
+            let key: String = key.extract()?;
+            let (lo, hi): (f64, f64) = span.extract().map_err(|_| {
+                InputError::new_err(format!("{key}: expected a pair (lo, hi) of numbers"))
+            })?;
+            let parameter = Parameter::from_key(&key).ok_or_else(|| {
+                InputError::new_err(format!(
+                    "{key} cannot be ranged: only parameters that enter the programs' right-hand \
+                     sides and bounds can"
+                ))
+            })?;
+            Ok(Axis { parameter, lo, hi })
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let whole = ParamBox::new(axes).map_err(|e| InputError::new_err(format!("ranges: {e}")))?;
+    if !(min_width.is_finite() && (0.0..1.0).contains(&min_width)) {
+        return Err(InputError::new_err(format!(
+            "min_width {min_width}: must be a fraction in [0, 1)"
+        )));
+    }
+    let options = RegionOptions {
+        depth,
+        min_width,
+        ..RegionOptions::default()
+    };
+    let map = py
+        .detach(move || map_region(&p, &whole, &options, &|_| {}))
+        .map_err(|e| InputError::new_err(e.to_string()))?;
+    let json = serde_json::to_value(&map).expect("maps serialise");
+    Ok(RegionMap { map, json })
+}
+
 /// The runtime monitor for a certified certificate: feed it samples, read its verdict
 /// (`held` or `violated`, latched) and events.
 #[pyclass(module = "safereach")]
@@ -519,6 +615,8 @@ fn _safereach(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Problem>()?;
     m.add_class::<Certificate>()?;
     m.add_class::<Monitor>()?;
+    m.add_class::<RegionMap>()?;
+    m.add_function(wrap_pyfunction!(region, m)?)?;
     m.add_function(wrap_pyfunction!(certify, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(safe_radius, m)?)?;

@@ -183,3 +183,29 @@ def test_a_ros_style_node_brakes_when_the_monitor_says_so():
         node.on_message(float(r["t"]), float(r["robot_x"]), float(r["robot_v"]),
                         float(r["obstacle_x"]))
     assert node.commanded == "brake" and node.first_violation["premise"] == "obstacle_speed"
+
+
+def test_region_maps_agree_with_certify_at_points_and_check_exactly():
+    p = seed()
+    ranges = {"environment.obstacle_speed": (0.10, 0.30), "controller.reaction_radius": (1.0, 1.6)}
+    m = sr.region(p, ranges, depth=6)
+    cov = m.coverage
+    assert abs(cov["certified"] + cov["refuted"] + cov["undecided"] - 1.0) < 1e-9
+    assert cov["certified"] > 0.3 and cov["refuted"] > 0.3
+    m.check()
+    again = sr.RegionMap.from_json(m.to_json())
+    assert again.check() is False, "part of this box is refuted"
+    for leaf in m.leaves:
+        if leaf["verdict"] != "certified":
+            continue
+        (w0, w1) = leaf["box"]["environment.obstacle_speed"]
+        (r0, r1) = leaf["box"]["controller.reaction_radius"]
+        point = seed(environment__obstacle_speed=(w0 + w1) / 2,
+                     controller__reaction_radius=(r0 + r1) / 2)
+        assert sr.certify(point).verdict == "certified", leaf["box"]
+    whole = sr.region(p, {"environment.obstacle_speed": (0.10, 0.20),
+                          "controller.reaction_radius": (1.3, 1.6)})
+    assert whole.check() is True
+    with pytest.raises(sr.InputError) as e:
+        sr.region(p, {"robot.braking": (0.04, 0.05)})
+    assert "robot.braking" in str(e.value)
