@@ -38,10 +38,11 @@ use serde::Serialize;
 
 use safereach::core::parameter::Parameter;
 use safereach::core::show::value;
-use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Line, Lines, MAX_LINE};
+use safereach::monitor::bag::{BagItem, BagOptions, BagReader, BagStats, LaneAxis, SpeedSource};
+use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Ids, Line, Lines, MAX_LINE};
 use safereach::monitor::{
-    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
-    RegionPoint, SceneSummary, Status, Summary, Verdict,
+    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Lanes, Margin, Monitor,
+    PremiseSummary, RegionPoint, SceneSummary, Status, Summary, Verdict,
 };
 use safereach::proof::certificate_file::{CertificateFile, is_region_map};
 use safereach::proof::json_read::from_json;
@@ -62,9 +63,53 @@ pub struct MonitorArgs {
     /// Trace to check: a CSV or JSON Lines file, or `-` for standard input (live).
     #[arg(value_name = "TRACE")]
     trace: PathBuf,
-    /// Trace format [default: by extension (.csv, .jsonl), else by the first line].
+    /// Trace format [default: by extension (.csv, .jsonl, .mcap), else by the first line;
+    /// a bag on standard input needs --format mcap].
     #[arg(long, value_enum, value_name = "FORMAT")]
     format: Option<FormatArg>,
+    /// MCAP bag: the robot's nav_msgs/msg/Odometry topic.
+    #[arg(
+        long,
+        value_name = "TOPIC",
+        default_value = "/odom",
+        help_heading = "ROS 2 bags"
+    )]
+    robot_topic: String,
+    /// MCAP bag: an obstacle topic (autoware_perception_msgs/msg/TrackedObjects, or
+    /// nav_msgs/msg/Odometry for one obstacle); repeatable, globs allowed ('/obstacles/*').
+    /// Default: every TrackedObjects topic.
+    #[arg(
+        long = "obstacle-topic",
+        value_name = "TOPIC",
+        help_heading = "ROS 2 bags"
+    )]
+    obstacle_topics: Vec<String>,
+    /// MCAP bag: the robot's mode (std_msgs/msg/String: idle, accelerate, drive, brake, stop).
+    #[arg(long, value_name = "TOPIC", help_heading = "ROS 2 bags")]
+    mode_topic: Option<String>,
+    /// MCAP bag without a mode topic: infer each instant's mode from the robot's next speed
+    /// (slower: brake). Exact for a robot that moves as the model does; speed jitter of a
+    /// real robot reads as braking.
+    #[arg(long, conflicts_with = "mode_topic", help_heading = "ROS 2 bags")]
+    infer_mode: bool,
+    /// MCAP bag: the lane, as its origin and heading in the odometry frame (m, m, rad).
+    /// Default: through the robot's first pose, along its heading.
+    #[arg(long, value_name = "X,Y,YAW", help_heading = "ROS 2 bags")]
+    lane_axis: Option<String>,
+    /// MCAP bag: obstacle speeds from their twists (compared exactly), or estimated by the
+    /// monitor from successive positions.
+    #[arg(
+        long,
+        value_enum,
+        default_value = "twist",
+        value_name = "FROM",
+        help_heading = "ROS 2 bags"
+    )]
+    obstacle_speed: ObstacleSpeedArg,
+    /// MCAP bag: obstacle messages are a simulator's ground truth (true positions at their
+    /// stamps), which the controller sees the latency later, not the observations it had.
+    #[arg(long, help_heading = "ROS 2 bags")]
+    ground_truth: bool,
     /// Print violation events and the summary as JSON, one object per line.
     #[arg(long)]
     json: bool,
@@ -131,12 +176,99 @@ fn controller_value(pair: &str) -> Result<(Parameter, f64), String> {
 }
 
 /// `--format`.
-#[derive(Clone, Copy, clap::ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum FormatArg {
     /// CSV with a header.
     Csv,
     /// JSON Lines.
     Jsonl,
+    /// A ROS 2 bag (MCAP, CDR messages).
+    Mcap,
+}
+
+/// `--obstacle-speed`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ObstacleSpeedArg {
+    /// The twist in each obstacle message.
+    Twist,
+    /// Estimated by the monitor from successive positions.
+    Positions,
+}
+
+/// Whether the trace is a bag: `--format mcap`, or a `.mcap` file without `--format`.
+fn is_bag(args: &MonitorArgs) -> bool {
+    match args.format {
+        Some(format) => format == FormatArg::Mcap,
+        None => args
+            .trace
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("mcap")),
+    }
+}
+
+/// The bag options of `args`, or an error naming the flag.
+fn bag_options(args: &MonitorArgs) -> Result<BagOptions> {
+    if args.columns.is_some() {
+        anyhow::bail!(
+            "--columns names CSV columns; {} is an MCAP bag",
+            args.trace.display()
+        );
+    }
+    let lane_axis = args
+        .lane_axis
+        .as_deref()
+        .map(|text| lane_axis(text).map_err(|why| anyhow::anyhow!("--lane-axis {text:?}: {why}")))
+        .transpose()?;
+    let options = BagOptions {
+        robot_topic: args.robot_topic.clone(),
+        obstacle_topics: args.obstacle_topics.clone(),
+        mode_topic: args.mode_topic.clone(),
+        infer_mode: args.infer_mode,
+        lane_axis,
+        obstacle_speed: match args.obstacle_speed {
+            ObstacleSpeedArg::Twist => SpeedSource::Twist,
+            ObstacleSpeedArg::Positions => SpeedSource::Positions,
+        },
+        ground_truth: args.ground_truth,
+        max_obstacles: DEFAULT_MAX_OBSTACLES,
+    };
+    Ok(options)
+}
+
+/// `--lane-axis X,Y,YAW`.
+fn lane_axis(text: &str) -> Result<LaneAxis, String> {
+    let numbers = text
+        .split(',')
+        .map(|v| v.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<Vec<f64>>>()
+        .ok_or("expected three finite numbers X,Y,YAW (m, m, rad), e.g. 0,0,1.5708")?;
+    match numbers[..] {
+        [x, y, yaw] => Ok(LaneAxis::new([x, y], yaw)),
+        _ => Err("expected three numbers X,Y,YAW (m, m, rad), e.g. 0,0,1.5708".to_string()),
+    }
+}
+
+/// Bag flags given with a text trace are a mistake worth naming.
+fn no_bag_flags(args: &MonitorArgs) -> Result<()> {
+    let given = [
+        (args.robot_topic != "/odom", "--robot-topic"),
+        (!args.obstacle_topics.is_empty(), "--obstacle-topic"),
+        (args.mode_topic.is_some(), "--mode-topic"),
+        (args.infer_mode, "--infer-mode"),
+        (args.lane_axis.is_some(), "--lane-axis"),
+        (args.ground_truth, "--ground-truth"),
+        (
+            matches!(args.obstacle_speed, ObstacleSpeedArg::Positions),
+            "--obstacle-speed",
+        ),
+    ];
+    if let Some((_, flag)) = given.iter().find(|(set, _)| *set) {
+        anyhow::bail!(
+            "{flag} applies to ROS 2 bags (MCAP); {} is read as a text trace (give --format mcap for a bag)",
+            args.trace.display()
+        );
+    }
+    Ok(())
 }
 
 /// A monitoring session, validated from [`MonitorArgs`]: the certificate's monitor, the
@@ -154,6 +286,7 @@ impl Session {
     /// Reads the certificate (it must pass `check` and be `certified`), parses `--columns`,
     /// settles the format and opens the trace, in that order.
     fn new(args: &MonitorArgs) -> Result<Session> {
+        no_bag_flags(args)?;
         let monitor = certificate_monitor(args)?;
         let columns = args
             .columns
@@ -167,6 +300,7 @@ impl Session {
             Some(FormatArg::Csv) => Some(Format::Csv),
             Some(FormatArg::Jsonl) => Some(Format::Jsonl),
             None if live => None,
+            Some(FormatArg::Mcap) => unreachable!("bags are read by run_bag"),
             None => Format::from_path(&args.trace),
         };
         let input: Box<dyn Read + Send> = if live {
@@ -186,17 +320,16 @@ impl Session {
             } else {
                 args.trace.display().to_string()
             },
-            printer: Printer {
-                json: args.json,
-                per_sample: !args.json && !args.events_only,
-                first: None,
-            },
+            printer: Printer::new(args, "line"),
         })
     }
 }
 
 /// Runs `safereach monitor`: exit 0 every premise held, 1 a violation.
 pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
+    if is_bag(&args) {
+        return run_bag(&args, out);
+    }
     let Session {
         mut monitor,
         mut decoder,
@@ -236,7 +369,7 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
         printer
             .sample(
                 &mut out,
-                &decoder,
+                decoder.ids(),
                 number,
                 t_text,
                 was,
@@ -249,21 +382,113 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
         // The summary still says what was read: a stopped monitor must not lose it.
         eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
     }
-    finish(&monitor, &decoder, &printer, &mut out, &origin)
+    finish(&monitor, &printer, &mut out, &origin)
+}
+
+/// `safereach monitor` on a ROS 2 bag: the same checks and output, with samples assembled
+/// from the bag's messages by the library's [`BagReader`] and places given as message
+/// numbers.
+fn run_bag(args: &MonitorArgs, out: &mut Output) -> Result<Exit> {
+    let options = bag_options(args)?;
+    let mut monitor = certificate_monitor(args)?;
+    let live = args.trace.as_os_str() == "-";
+    let (input, origin): (Box<dyn Read + Send>, String) = if live {
+        (Box::new(io::stdin()), "standard input".to_string())
+    } else {
+        let file = File::open(&args.trace)
+            .with_context(|| format!("{}: cannot open the bag", args.trace.display()))?;
+        (Box::new(file), args.trace.display().to_string())
+    };
+    let input = Interruptible::new(input).context("listening for Ctrl-C and SIGTERM")?;
+    let mut reader =
+        BagReader::new(input, &options).map_err(|e| anyhow::anyhow!("--obstacle-topic: {e}"))?;
+    let mut printer = Printer::new(args, "message");
+    let mut out = BufWriter::with_capacity(1 << 16, out);
+    let mut t_text = String::new();
+    while let Some(item) = reader.next_item() {
+        let was = monitor.verdict();
+        let (t, number, outcome) = match item {
+            BagItem::Sample { sample, message } => (
+                Some(sample.t),
+                message,
+                monitor.observe_named(reader.ids(), &sample, Lanes::UNKNOWN),
+            ),
+            BagItem::Robot { sample, message } => (
+                Some(sample.t),
+                message,
+                monitor.observe_robot(&sample, Lanes::UNKNOWN),
+            ),
+            BagItem::Malformed { t, detail, message } => (t, message, monitor.malformed(t, detail)),
+        };
+        t_text.clear();
+        if let Some(t) = t {
+            use std::fmt::Write as _;
+            let _ = write!(t_text, "{t}");
+        }
+        let t_text = t.map(|_| t_text.as_bytes());
+        printer
+            .sample(
+                &mut out,
+                reader.ids(),
+                number,
+                t_text,
+                was,
+                outcome.verdict,
+                outcome.events,
+            )
+            .context("writing the output")?;
+    }
+    out.flush().context("writing the output")?;
+    let stats = reader.stats().clone();
+    if let Some(signal) = reader.into_inner().interrupted_by() {
+        eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
+    }
+    bag_note(&origin, &options, &stats);
+    finish(&monitor, &printer, &mut out, &origin)
+}
+
+/// What was read from a bag, on standard error: the counts, and the bag's topics when the
+/// robot's was not among them (the usual mistake).
+fn bag_note(origin: &str, options: &BagOptions, stats: &BagStats) {
+    eprintln!(
+        "{origin}: {} messages: {} robot instants, {} obstacle observations, {} modes, {} skipped; {} superseded, {} after the last instant (not checked)",
+        stats.messages,
+        stats.robot,
+        stats.observations,
+        stats.modes,
+        stats.skipped,
+        stats.superseded,
+        stats.unpaired
+    );
+    if stats.robot == 0 {
+        let topics: Vec<String> = stats
+            .topics
+            .iter()
+            .map(|(topic, kind)| format!("{topic} ({kind})"))
+            .collect();
+        eprintln!(
+            "{origin}: no robot odometry on {} (--robot-topic); the bag's topics: {}",
+            options.robot_topic,
+            if topics.is_empty() {
+                "none".to_string()
+            } else {
+                topics.join(", ")
+            }
+        );
+    }
 }
 
 /// Prints the summary of what was read; the exit status: the verdict's, or 2 when no sample
 /// could be checked (an empty trace, or one of only unreadable lines).
 fn finish(
     monitor: &Monitor,
-    decoder: &Decoder,
     printer: &Printer,
     out: &mut impl Write,
     origin: &str,
 ) -> Result<Exit> {
     let summary = monitor.summary();
     printer
-        .summary(out, decoder, &summary, monitor.checked_anything())
+        .summary(out, &summary, monitor.checked_anything())
         .and_then(|()| out.flush())
         .context("writing the output")?;
     if !monitor.checked_anything() {
@@ -288,6 +513,8 @@ struct Printer {
     json: bool,
     per_sample: bool,
     first: Option<First>,
+    /// What a place in the input is: a `line` of a text trace, a `message` of a bag.
+    place: &'static str,
 }
 
 /// One event of `safereach monitor --json`: a line of its own, in trace order.
@@ -310,7 +537,8 @@ pub(crate) struct EventJson<'a> {
     action: &'static str,
     /// The unit of `observed` and `bound` (empty when they have none).
     unit: &'static str,
-    /// The trace line (1-based) of the sample.
+    /// The trace line (1-based) of the sample; for a ROS 2 bag, the number (1-based, in file
+    /// order) of the message it came from.
     line: u64,
     /// For malformed and non-finite input: what is wrong.
     detail: Option<String>,
@@ -373,16 +601,25 @@ pub(crate) struct SummaryJson<'a> {
 }
 
 /// An obstacle's name as the trace wrote it.
-fn obstacle_name<'d>(decoder: &'d Decoder, e: &Event) -> Option<&'d str> {
-    e.obstacle_id.map(|id| decoder.ids().name(id))
+fn obstacle_name<'d>(ids: &'d Ids, e: &Event) -> Option<&'d str> {
+    e.obstacle_id.map(|id| ids.name(id))
 }
 
 impl Printer {
+    fn new(args: &MonitorArgs, place: &'static str) -> Printer {
+        Printer {
+            json: args.json,
+            per_sample: !args.json && !args.events_only,
+            first: None,
+            place,
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn sample(
         &mut self,
         out: &mut impl Write,
-        decoder: &Decoder,
+        ids: &Ids,
         line: u64,
         t_text: Option<&[u8]>,
         was: Verdict,
@@ -395,15 +632,12 @@ impl Printer {
             self.first = Some(First {
                 line,
                 t_text: t_text.map(|t| String::from_utf8_lossy(t).into_owned()),
-                obstacle: obstacle_name(decoder, e).map(str::to_string),
+                obstacle: obstacle_name(ids, e).map(str::to_string),
             });
         }
         if self.json {
             for e in events {
-                serde_json::to_writer(
-                    &mut *out,
-                    &EventJson::new(e, obstacle_name(decoder, e), line),
-                )?;
+                serde_json::to_writer(&mut *out, &EventJson::new(e, obstacle_name(ids, e), line))?;
                 out.write_all(b"\n")?;
             }
             return Ok(());
@@ -423,19 +657,13 @@ impl Printer {
             out.write_all(b"t=")?;
             out.write_all(t_text.unwrap_or(b"?"))?;
             out.write_all(b" VIOLATION ")?;
-            describe(out, e, obstacle_name(decoder, e))?;
-            writeln!(out, " (line {line})")?;
+            describe(out, e, obstacle_name(ids, e))?;
+            writeln!(out, " ({} {line})", self.place)?;
         }
         Ok(())
     }
 
-    fn summary(
-        &self,
-        out: &mut impl Write,
-        decoder: &Decoder,
-        s: &Summary,
-        checked: bool,
-    ) -> io::Result<()> {
+    fn summary(&self, out: &mut impl Write, s: &Summary, checked: bool) -> io::Result<()> {
         let first = s.first_violation.as_ref().zip(self.first.as_ref());
         if self.json {
             return summary_json(out, s, first, checked);
@@ -482,7 +710,7 @@ impl Printer {
                 f.t_text.as_deref().unwrap_or("?")
             )?;
             describe(out, e, f.obstacle.as_deref())?;
-            writeln!(out, " (line {})", f.line)?;
+            writeln!(out, " ({} {})", self.place, f.line)?;
         }
         writeln!(out, "premises:")?;
         for p in &s.premises {
@@ -515,7 +743,6 @@ impl Printer {
             .map(|f| format!("{} {}", f.check.as_str(), f.violations))
             .collect();
         writeln!(out, "fail-safe: {}", fail_safe.join(", "))?;
-        let _ = decoder;
         Ok(())
     }
 }

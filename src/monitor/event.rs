@@ -92,6 +92,14 @@ pub enum Detail {
     AboveAcceleration,
     /// `observation_dropout`: the obstacle was last seen inside the reaction area.
     Dropout,
+    /// A bag message that is not CDR of its topic's type (what is wrong).
+    BadMessage(&'static str),
+    /// A bag topic the monitor was told to read, of a type it does not read.
+    UnknownMessageType,
+    /// The robot's first pose has no heading, so the lane's direction is unknown.
+    NoLaneAxis,
+    /// The bag itself is corrupt or truncated (what is wrong); reading stops.
+    CorruptBag(&'static str),
 }
 
 impl fmt::Display for Detail {
@@ -147,6 +155,17 @@ impl fmt::Display for Detail {
             Detail::Dropout => f.write_str(
                 "last observed gap (m) inside the reaction radius rho, and the next instant came without this obstacle",
             ),
+            Detail::BadMessage(what) => write!(f, "unreadable bag message: {what}"),
+            Detail::UnknownMessageType => f.write_str(
+                "the topic's message type is not one the monitor reads (nav_msgs/msg/Odometry, \
+                 autoware_perception_msgs/msg/TrackedObjects; std_msgs/msg/String for the mode) \
+                 or is not CDR-encoded",
+            ),
+            Detail::NoLaneAxis => f.write_str(
+                "the robot's first pose has no heading (zero or non-finite orientation), so the \
+                 lane's direction is unknown: give --lane-axis X,Y,YAW",
+            ),
+            Detail::CorruptBag(what) => write!(f, "the bag is corrupt: {what}; reading stopped"),
         }
     }
 }

@@ -153,6 +153,8 @@ use crate::proof::certificate::{self, Certificate};
 use crate::proof::premise::Premise;
 use crate::proof::verdict;
 
+#[cfg(feature = "bag")]
+pub mod bag;
 mod check;
 mod event;
 mod field;

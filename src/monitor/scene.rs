@@ -9,7 +9,8 @@
 //! (`collision`) is checked for every obstacle in a lane the robot occupies.
 
 use super::check::Bounds;
-use super::trace::Decoder;
+use super::lanes::Lanes;
+use super::trace::{Decoder, Ids};
 use super::{Monitor, MonitorError, ObstacleId, Outcome, Rule, Sample, Track, require_certified};
 use crate::core::scene::Scene;
 use crate::proof::certificate_file::CertificateFile;
@@ -215,16 +216,23 @@ impl Monitor {
     /// and the sample's lanes are the decoder's ([`Decoder::lanes`]). The way to feed a text
     /// trace.
     pub fn observe_decoded(&mut self, decoder: &Decoder, s: &Sample) -> Outcome<'_> {
+        self.observe_named(decoder.ids(), s, decoder.lanes())
+    }
+
+    /// [`Monitor::observe_in_lanes`] for a sample whose obstacle `ids` names: under a scene
+    /// certificate a new obstacle id is first matched by its name ([`Monitor::identify`]).
+    /// The way to feed any reader that names obstacles (a text trace, a bag).
+    pub fn observe_named(&mut self, ids: &Ids, s: &Sample, lanes: Lanes) -> Outcome<'_> {
         if self.scene.is_some() {
             let named = self
                 .obstacles
                 .get(s.obstacle_id as usize)
                 .is_some_and(|t| t.named);
             if !named {
-                self.identify(s.obstacle_id, decoder.ids().name(s.obstacle_id));
+                self.identify(s.obstacle_id, ids.name(s.obstacle_id));
             }
         }
-        self.observe_in_lanes(s, decoder.lanes())
+        self.observe_in_lanes(s, lanes)
     }
 
     /// What the scene assumed of the obstacle `track` was matched to.

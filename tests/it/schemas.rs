@@ -21,7 +21,7 @@ fn validator(name: &str) -> jsonschema::Validator {
 }
 
 /// Asserts `json` validates against schema `name`; `what` names it in the failure.
-fn valid(name: &str, json: &Value, what: &str) {
+pub(crate) fn valid(name: &str, json: &Value, what: &str) {
     let errors: Vec<String> = validator(name)
         .iter_errors(json)
         .take(5)

@@ -16,7 +16,7 @@ pub struct Ids {
     short: FxHashMap<u128, ObstacleId>,
     long: FxHashMap<Box<[u8]>, ObstacleId>,
     names: Vec<String>,
-    pub(super) limit: u32,
+    pub(crate) limit: u32,
     /// Short ids looked up lately, by [`slot`]: a trace of a few obstacles, interleaved or
     /// not, needs no hashing at all. An entry is a packed id (or [`NO_KEY`]) and its number.
     recent: [(u128, ObstacleId); RECENT],
