@@ -12,7 +12,7 @@ use serde_json::Value;
 
 use crate::bag_writer::{self, Body, Layout, odometry, rows, seed_bag, stamp, yaw};
 use crate::common::cli::safereach;
-use crate::common::paths::{fixture, problem_file, seed_file};
+use crate::common::paths::{fixture, problem_file, root, seed_file};
 use crate::common::tmp;
 use crate::schemas::valid;
 
@@ -806,4 +806,28 @@ fn scene_obstacles_on_their_own_topics_are_matched_by_name() {
         "every scene obstacle matched by its topic's name"
     );
     assert_eq!(b["scene"]["unmatched"], 0);
+}
+
+/// `examples/bags/seed-w0.25.mcap`, the README's bag, is the fixture trace
+/// `tests/fixtures/seed-w0.25.run.csv` as [`seed_bag`] writes it (zstd, one odometry topic
+/// for the obstacle, the mode on `/mode`). Rewrite it after a deliberate change with
+/// `SAFEREACH_BLESS_FIXTURES=1 cargo test --release --test it monitor_bag::`.
+#[test]
+fn the_shipped_example_bag_is_the_fixture_trace() {
+    let dir = tmp();
+    let trace = rows(&fs::read_to_string(fixture("seed-w0.25.run.csv")).unwrap());
+    let written = dir.path().join("seed.mcap");
+    seed_bag(&trace, &written, Layout::default());
+    let written = fs::read(written).unwrap();
+    let shipped = root().join("examples/bags/seed-w0.25.mcap");
+    if std::env::var_os("SAFEREACH_BLESS_FIXTURES").is_some() {
+        fs::create_dir_all(shipped.parent().unwrap()).unwrap();
+        fs::write(&shipped, &written).unwrap();
+    }
+    let on_disk = fs::read(&shipped).unwrap_or_default();
+    assert!(
+        on_disk == written,
+        "{} is stale: rewrite it with SAFEREACH_BLESS_FIXTURES=1 cargo test --release --test it monitor_bag::",
+        shipped.display()
+    );
 }
