@@ -4,7 +4,7 @@
 #
 #   fuzz/run.sh TARGET SECONDS [SCRATCH]     # SCRATCH: keep the grown corpus and artifacts
 #
-# TARGET: problem, grid, certificate, trace_csv or trace_jsonl. Extra libFuzzer flags go in
+# TARGET: problem, grid, certificate, trace_csv, trace_jsonl or bag. Extra libFuzzer flags go in
 # FUZZ_FLAGS (e.g. FUZZ_FLAGS="-fork=1 -ignore_crashes=1" for a long campaign). A crash
 # leaves its input in SCRATCH/artifacts/ and exits non-zero. Needs cargo-fuzz 0.13 on PATH;
 # stable Rust is enough (-s none: no sanitizer).

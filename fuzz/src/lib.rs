@@ -3,6 +3,8 @@
 //! `cargo test` runs the same bodies on every committed corpus input and fuzz finding
 //! (`tests/it/fuzz_findings.rs` includes this file).
 
+#[path = "bag.rs"]
+pub mod bag;
 #[path = "certificate.rs"]
 pub mod certificate;
 #[path = "grid.rs"]

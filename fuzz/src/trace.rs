@@ -10,7 +10,7 @@ use safereach::proof::certificate_file::CertificateFile;
 use super::assert_user_message;
 
 /// The certificate the trace targets monitor against: the seed's (certified), checked once.
-fn seed_monitor() -> &'static Monitor {
+pub(crate) fn seed_monitor() -> &'static Monitor {
     static MONITOR: OnceLock<Monitor> = OnceLock::new();
     MONITOR.get_or_init(|| {
         let text = include_str!("../../tests/fixtures/seed.cert.json");

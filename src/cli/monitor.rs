@@ -672,7 +672,7 @@ impl Printer {
             return writeln!(
                 out,
                 "summary: NOTHING CHECKED: no readable sample in {}",
-                plural(s.samples, "line")
+                plural(s.samples, self.place)
             );
         }
         let counts = format!(

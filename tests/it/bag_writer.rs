@@ -187,6 +187,25 @@ impl Bag {
             .compression(compression)
             .profile("ros2")
             .chunk_size(Some(64 * 1024));
+        Bag::with_options(path, options)
+    }
+
+    /// A bag for the fuzzer's corpus: uncompressed and without CRCs (0 means "not computed"),
+    /// so that a mutated byte reaches the CDR decoder instead of failing a checksum.
+    pub fn for_fuzzing(path: &Path) -> Bag {
+        let options = WriteOptions::new()
+            .compression(None)
+            .profile("ros2")
+            .calculate_chunk_crcs(false)
+            .calculate_data_section_crc(false)
+            .calculate_summary_section_crc(false)
+            .emit_summary_records(false)
+            .emit_message_indexes(false)
+            .emit_chunk_indexes(false);
+        Bag::with_options(path, options)
+    }
+
+    fn with_options(path: &Path, options: WriteOptions) -> Bag {
         let file = BufWriter::new(File::create(path).unwrap());
         Bag {
             writer: options.create(file).unwrap(),

@@ -15,7 +15,7 @@ use safereach::proof::region_map::RegionMap;
 use crate::common::cli::safereach;
 use crate::common::paths::root;
 use crate::common::tmp;
-use crate::fuzz_properties::{certificate, grid, problem, trace};
+use crate::fuzz_properties::{bag, certificate, grid, problem, trace};
 
 /// The committed inputs of a fuzz target, by file name.
 fn corpus(target: &str) -> Vec<(String, Vec<u8>)> {
@@ -67,6 +67,11 @@ fn committed_certificate_inputs_keep_the_certificate_targets_properties() {
 #[test]
 fn committed_csv_traces_keep_the_trace_targets_properties() {
     replay("trace_csv", |data| trace::fuzz_trace(data, Format::Csv));
+}
+
+#[test]
+fn committed_bags_keep_the_bag_targets_properties() {
+    replay("bag", bag::fuzz_bag);
 }
 
 #[test]

@@ -831,3 +831,78 @@ fn the_shipped_example_bag_is_the_fixture_trace() {
         shipped.display()
     );
 }
+
+/// `fuzz/corpus/bag/`, the bag fuzz target's seed corpus: small bags without checksums (so
+/// mutations reach the decoder) in each layout — odometry per obstacle with a mode topic,
+/// tracked objects, a bag with a malformed message. Rewritten like the example bag.
+#[test]
+fn the_bag_fuzz_corpus_is_what_the_writer_writes() {
+    let dir = tmp();
+    let trace = rows(&fs::read_to_string(fixture("seed-w0.25.run.csv")).unwrap());
+    let corpus = root().join("fuzz/corpus/bag");
+    let bless = std::env::var_os("SAFEREACH_BLESS_FIXTURES").is_some();
+    let mut written = Vec::new();
+    for (name, tracked) in [("odometry.mcap", false), ("tracked.mcap", true)] {
+        let path = dir.path().join(name);
+        let mut bag = bag_writer::Bag::for_fuzzing(&path);
+        for (k, row) in trace.iter().take(6).enumerate() {
+            let st = stamp(&row.t);
+            let log = k as u64;
+            let robot = Body {
+                position: [row.robot_x, 0.0],
+                orientation: yaw(0.0),
+                velocity: [row.robot_v, 0.0],
+            };
+            let obstacle = Body {
+                position: [row.obstacle_x, 0.0],
+                orientation: yaw(std::f64::consts::PI),
+                velocity: [row.obstacle_v, 0.0],
+            };
+            bag.write(
+                "/odom",
+                "nav_msgs/msg/Odometry",
+                log,
+                &odometry(st, "base_link", &robot),
+            );
+            bag.write(
+                "/mode",
+                "std_msgs/msg/String",
+                log,
+                &bag_writer::text(&row.robot_mode),
+            );
+            if tracked {
+                let data = bag_writer::tracked_objects(st, &[(bag_writer::uuid_of("0"), obstacle)]);
+                bag.write(
+                    "/obstacles/tracked",
+                    "autoware_perception_msgs/msg/TrackedObjects",
+                    log,
+                    &data,
+                );
+            } else {
+                bag.write(
+                    "/obstacles/0",
+                    "nav_msgs/msg/Odometry",
+                    log,
+                    &odometry(st, "0", &obstacle),
+                );
+            }
+        }
+        if tracked {
+            bag.write("/odom", "nav_msgs/msg/Odometry", 99, &[0, 1, 0, 0, 7]);
+        }
+        bag.finish();
+        written.push((name, fs::read(&path).unwrap()));
+    }
+    for (name, bytes) in written {
+        let shipped = corpus.join(name);
+        if bless {
+            fs::create_dir_all(&corpus).unwrap();
+            fs::write(&shipped, &bytes).unwrap();
+        }
+        assert!(
+            fs::read(&shipped).unwrap_or_default() == bytes,
+            "{} is stale: rewrite it with SAFEREACH_BLESS_FIXTURES=1 cargo test --release --test it monitor_bag::",
+            shipped.display()
+        );
+    }
+}

@@ -1,6 +1,7 @@
 //! [`BagReader`]: an MCAP stream in, monitor samples out.
 
 use std::io::Read;
+use std::panic::AssertUnwindSafe;
 
 use mcap::sans_io::LinearReaderOptions;
 use mcap::{McapError, Message};
@@ -77,24 +78,35 @@ impl<R: Read> BagReader<R> {
             if self.done {
                 return None;
             }
-            match self.messages.next() {
+            // A malformed record can make the MCAP reader panic where it subtracts lengths
+            // unchecked (mcap 0.26.0, builds with overflow checks on; see
+            // fuzz/src/bag.rs): caught, it is a corrupt bag like any other.
+            let Ok(next) = std::panic::catch_unwind(AssertUnwindSafe(|| self.messages.next()))
+            else {
+                self.stop("a record's length overruns its chunk");
+                continue;
+            };
+            match next {
                 Some(Ok(message)) => self.message(&message),
-                Some(Err(e)) => {
-                    self.done = true;
-                    // What was read before the damage is still checked, first.
-                    self.finish();
-                    self.instants.out.push_back(BagItem::Malformed {
-                        t: None,
-                        detail: Detail::CorruptBag(corruption(&e)),
-                        message: self.stats.messages,
-                    });
-                }
+                Some(Err(e)) => self.stop(corruption(&e)),
                 None => {
                     self.done = true;
                     self.finish();
                 }
             }
         }
+    }
+
+    /// Stops at a damaged part of the bag: what was read before it is still checked, first,
+    /// then the damage is one fail-safe event.
+    fn stop(&mut self, what: &'static str) {
+        self.done = true;
+        self.finish();
+        self.instants.out.push_back(BagItem::Malformed {
+            t: None,
+            detail: Detail::CorruptBag(what),
+            message: self.stats.messages,
+        });
     }
 
     fn finish(&mut self) {
@@ -276,5 +288,83 @@ fn corruption(e: &McapError) -> &'static str {
             "a record states a length over 256 MiB"
         }
         _ => "a record is not valid MCAP",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+    use std::io::Cursor;
+
+    use super::*;
+
+    /// A bag of `n` std_msgs/String messages on `/mode`, uncompressed and without CRCs.
+    fn bag(n: u32) -> Vec<u8> {
+        let options = mcap::WriteOptions::new()
+            .compression(None)
+            .calculate_chunk_crcs(false)
+            .calculate_data_section_crc(false)
+            .calculate_summary_section_crc(false);
+        let mut w = options.create(Cursor::new(Vec::new())).unwrap();
+        let schema = w
+            .add_schema("std_msgs/msg/String", "ros2msg", b"string data")
+            .unwrap();
+        let channel = w
+            .add_channel(schema, "/mode", "cdr", &BTreeMap::new())
+            .unwrap();
+        for k in 0..n {
+            let header = mcap::records::MessageHeader {
+                channel_id: channel,
+                sequence: k,
+                log_time: u64::from(k),
+                publish_time: u64::from(k),
+            };
+            w.write_to_known_channel(
+                &header,
+                &[0, 1, 0, 0, 6, 0, 0, 0, b'd', b'r', b'i', b'v', b'e', 0],
+            )
+            .unwrap();
+        }
+        w.finish().unwrap();
+        w.into_inner().into_inner()
+    }
+
+    fn items(data: &[u8]) -> Vec<BagItem> {
+        let options = BagOptions {
+            mode_topic: Some("/mode".into()),
+            ..BagOptions::default()
+        };
+        let mut reader = BagReader::new(data, &options).unwrap();
+        std::iter::from_fn(|| reader.next_item()).collect()
+    }
+
+    #[test]
+    fn a_clean_bag_of_modes_has_no_items() {
+        // No robot: no instant, nothing to check, and nothing wrong.
+        assert_eq!(items(&bag(5)), vec![]);
+    }
+
+    #[test]
+    fn records_the_mcap_reader_panics_on_are_a_corrupt_bag() {
+        // Found by the bag fuzz target: a record inside an uncompressed chunk claims more
+        // bytes than the chunk has left. mcap 0.26.0 subtracts unchecked there, which panics
+        // with overflow checks on (`cargo test` without --release) and wraps without them.
+        // Either way: one corrupt-bag event, last.
+        // The second: an attachment record too short for its own header, where mcap
+        // 0.26.0 slices out of range (a panic in every build).
+        for data in [
+            &include_bytes!("../../../fuzz/corpus/bag/finding-record-overruns-chunk.mcap")[..],
+            &include_bytes!("../../../fuzz/corpus/bag/finding-short-attachment.mcap")[..],
+        ] {
+            let items = items(data);
+            let corrupt = matches!(
+                items.last(),
+                Some(BagItem::Malformed {
+                    detail: Detail::CorruptBag(_),
+                    ..
+                })
+            );
+            assert!(corrupt, "{items:?}");
+        }
     }
 }
