@@ -1,4 +1,5 @@
 """Type stubs of safereach's Python package."""
+import os
 
 from typing import Any, Optional, Sequence, Union, overload
 
@@ -68,6 +69,19 @@ class Monitor:
         obstacle_v: Optional[npt.NDArray[np.float64]] = None,
         obstacle_id: Optional[npt.NDArray[np.uint32]] = None,
     ) -> tuple[str, list[tuple[int, dict[str, Any]]]]: ...
+    def observe_bag(
+        self,
+        path: Union[str, os.PathLike[str]],
+        robot_topic: str = "/odom",
+        obstacle_topics: Optional[list[str]] = None,
+        mode_topic: Optional[str] = None,
+        infer_mode: bool = False,
+        lane_axis: Optional[tuple[float, float, float]] = None,
+        ground_truth: bool = False,
+        obstacle_speed: str = "twist",
+    ) -> tuple[str, list[tuple[int, dict[str, Any]]]]:
+        """Checks a ROS 2 bag (MCAP): (verdict, [(message number, event)])."""
+        ...
     @property
     def verdict(self) -> str: ...
     def summary(self) -> dict[str, Any]: ...

@@ -17,7 +17,8 @@ use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::parameter::Parameter;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
-use safereach::monitor::{Monitor as LibMonitor, Sample};
+use safereach::monitor::bag::{BagItem, BagOptions, BagReader, LaneAxis, SpeedSource};
+use safereach::monitor::{Lanes, Monitor as LibMonitor, Sample};
 use safereach::proof::certificate::Certificate as LibCertificate;
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::region_check::check_map;
@@ -590,6 +591,90 @@ impl Monitor {
             list.append((*i, event_dict(py, e)?))?;
         }
         Ok((verdict.as_str(), list.into_any().unbind()))
+    }
+
+    /// Checks a ROS 2 bag (MCAP) as `safereach monitor run.mcap` does (docs/monitor.md §10):
+    /// the robot's `nav_msgs/msg/Odometry` on `robot_topic`, obstacles on the topics the
+    /// glob patterns `obstacle_topics` match (default: every Autoware `TrackedObjects`
+    /// topic), the mode on `mode_topic` or inferred from speeds, positions projected on
+    /// `lane_axis` (x, y, yaw) or the robot's first pose. Returns (verdict, list of (message
+    /// number, event dict)), obstacles named as the bag names them. The GIL is released
+    /// while the bag is read.
+    #[pyo3(signature = (path, robot_topic = "/odom", obstacle_topics = None, mode_topic = None, infer_mode = false, lane_axis = None, ground_truth = false, obstacle_speed = "twist"))]
+    #[allow(clippy::too_many_arguments)]
+    fn observe_bag(
+        &mut self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        robot_topic: &str,
+        obstacle_topics: Option<Vec<String>>,
+        mode_topic: Option<String>,
+        infer_mode: bool,
+        lane_axis: Option<(f64, f64, f64)>,
+        ground_truth: bool,
+        obstacle_speed: &str,
+    ) -> PyResult<(&'static str, Py<PyAny>)> {
+        let obstacle_speed = match obstacle_speed {
+            "twist" => SpeedSource::Twist,
+            "positions" => SpeedSource::Positions,
+            other => {
+                return Err(InputError::new_err(format!(
+                    "obstacle_speed {other:?}: expected \"twist\" or \"positions\""
+                )));
+            }
+        };
+        if let Some((x, y, yaw)) = lane_axis
+            && ![x, y, yaw].iter().all(|v| v.is_finite())
+        {
+            return Err(InputError::new_err(
+                "lane_axis: x, y and yaw must be finite",
+            ));
+        }
+        let options = BagOptions {
+            robot_topic: robot_topic.to_string(),
+            obstacle_topics: obstacle_topics.unwrap_or_default(),
+            mode_topic,
+            infer_mode,
+            lane_axis: lane_axis.map(|(x, y, yaw)| LaneAxis::new([x, y], yaw)),
+            obstacle_speed,
+            ground_truth,
+            ..BagOptions::default()
+        };
+        let file = std::fs::File::open(&path).map_err(|e| {
+            InputError::new_err(format!("{}: cannot open the bag: {e}", path.display()))
+        })?;
+        let mut reader = BagReader::new(std::io::BufReader::with_capacity(1 << 20, file), &options)
+            .map_err(|e| InputError::new_err(e.to_string()))?;
+        let inner = &mut self.inner;
+        let events = py.detach(move || {
+            let mut events = Vec::new();
+            while let Some(item) = reader.next_item() {
+                let (message, outcome) = match item {
+                    BagItem::Sample { sample, message } => (
+                        message,
+                        inner.observe_named(reader.ids(), &sample, Lanes::UNKNOWN),
+                    ),
+                    BagItem::Robot { sample, message } => {
+                        (message, inner.observe_robot(&sample, Lanes::UNKNOWN))
+                    }
+                    BagItem::Malformed { t, detail, message } => {
+                        (message, inner.malformed(t, detail))
+                    }
+                };
+                for e in outcome.events {
+                    let name = e.obstacle_id.map(|id| reader.ids().name(id).to_string());
+                    events.push((message, *e, name));
+                }
+            }
+            events
+        });
+        let list = PyList::empty(py);
+        for (message, e, name) in &events {
+            let mut value = serde_json::to_value(e).expect("events serialise");
+            value["obstacle_id"] = name.clone().map_or(Value::Null, Value::String);
+            list.append((*message, to_py(py, &value)?))?;
+        }
+        Ok((self.inner.verdict().as_str(), list.into_any().unbind()))
     }
 
     /// The standing verdict: `held` or `violated` (latched).

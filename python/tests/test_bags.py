@@ -167,3 +167,24 @@ def test_a_rosbags_bag_gives_the_events_of_its_csv(store, certificate, tmp_path,
         assert bag_summary[key] == summary[key], key
     if tracked:
         assert bag_summary["first_violation"]["obstacle_id"] == bytes(range(16)).hex()
+
+
+def test_monitor_observe_bag_is_the_command_line(store, certificate, tmp_path):
+    import safereach as sr
+
+    bag = write_bag(store, tmp_path / "run", tracked=True)
+    m = sr.Monitor(sr.Certificate.from_json(certificate.read_text()))
+    verdict, events = m.observe_bag(bag, obstacle_topics=["/perception/*"], mode_topic="/mode",
+                                    ground_truth=True)
+    code, cli_events, summary = monitor(certificate, bag, "--obstacle-topic", "/perception/*",
+                                        "--mode-topic", "/mode", "--ground-truth")
+    assert verdict == "violated" and code == 1
+    assert [message for message, _ in events] == [e["line"] for e in cli_events]
+    for (_, e), c in zip(events, cli_events):
+        assert e["obstacle_id"] == c["obstacle_id"] == bytes(range(16)).hex()
+        assert (e["premise"], e["t"], e["observed"]) == (c["premise"], c["t"], c["observed"])
+    assert m.summary()["violations"] == summary["violations"]
+    with pytest.raises(sr.InputError, match="obstacle_speed"):
+        m.observe_bag(bag, obstacle_speed="radar")
+    with pytest.raises(sr.InputError, match="cannot open the bag"):
+        m.observe_bag(tmp_path / "missing.mcap")
