@@ -524,24 +524,63 @@ pub struct Leap<N> {
 /// The robot's exact motion over `m` periods of one uniform mode from speed `v`: speed
 /// change per period `s` and travel per period `v_i·dt + q`; positions then sum in closed
 /// form, Σ_{i<m} (v + i·s)·dt + q = m·v·dt + s·dt·m(m−1)/2 + m·q.
+/// Written as m·(v·dt + q) + (s·dt)·m(m−1)/2, with both factors computed once per leap: a
+/// leap's bisection evaluates it at many m, and each exact product costs.
 struct Uniform<N> {
     v: N,
     s: N,
-    q: N,
+    /// The first period's travel, v·dt + q.
+    step: N,
+    /// s·dt.
+    sdt: N,
+}
+
+/// m(m−1)/2, the number of speed changes summed over the first m periods.
+fn pairs<N: Scalar>(m: usize) -> N {
+    N::int((m as i64) * (m as i64 - 1) / 2)
 }
 
 impl<N: Scalar> Uniform<N> {
+    fn new(v: N, s: N, q: N, dt: &N) -> Uniform<N> {
+        Uniform {
+            step: v.clone() * dt.clone() + q,
+            sdt: s.clone() * dt.clone(),
+            v,
+            s,
+        }
+    }
     /// Distance travelled over the first `m` periods.
-    fn travelled(&self, dt: &N, m: usize) -> N {
-        let m_n = N::int(m as i64);
-        let pairs = N::int((m as i64) * (m as i64 - 1) / 2);
-        m_n.clone() * self.v.clone() * dt.clone()
-            + self.s.clone() * dt.clone() * pairs
-            + m_n * self.q.clone()
+    fn travelled(&self, m: usize) -> N {
+        N::int(m as i64) * self.step.clone() + pairs::<N>(m) * self.sdt.clone()
     }
     /// Speed after `m` periods.
     fn speed(&self, m: usize) -> N {
         self.v.clone() + N::int(m as i64) * self.s.clone()
+    }
+}
+
+/// The gap over a leap with the obstacle at speed w: it closes by w·dt + v·dt + q in the
+/// first period and by s·dt more in each later one, so after j periods it is
+/// gap − j·(w·dt + step) − (s·dt)·j(j−1)/2 (the same number as gap − j·w·dt − travelled(j)).
+struct Closing<N> {
+    gap: N,
+    per_period: N,
+    sdt: N,
+}
+
+impl<N: Scalar> Closing<N> {
+    fn new(gap: &N, w: &N, dt: &N, uniform: &Uniform<N>) -> Closing<N> {
+        Closing {
+            gap: gap.clone(),
+            per_period: w.clone() * dt.clone() + uniform.step.clone(),
+            sdt: uniform.sdt.clone(),
+        }
+    }
+    /// The gap after `j` periods.
+    fn after(&self, j: usize) -> N {
+        self.gap.clone()
+            - N::int(j as i64) * self.per_period.clone()
+            - pairs::<N>(j) * self.sdt.clone()
     }
 }
 
@@ -567,23 +606,16 @@ impl<N: Scalar> World<N> {
         let v = self.robot.speed.clone();
         let mode = self.robot.mode;
         let uniform = match mode {
-            Mode::Accelerate if v < p.v_max => Uniform {
-                v,
-                s: p.k.a_dt.clone(),
-                q: p.k.half_a_dt2.clone(),
-            },
-            Mode::Drive if v <= p.v_max => Uniform {
-                v,
-                s: zero.clone(),
-                q: zero.clone(),
-            },
-            Mode::Brake if v > zero => Uniform {
-                v,
-                s: -p.k.b_min_dt.clone(),
-                q: -p.k.half_b_min_dt2.clone(),
-            },
+            Mode::Accelerate if v < p.v_max => {
+                Uniform::new(v, p.k.a_dt.clone(), p.k.half_a_dt2.clone(), &p.dt)
+            }
+            Mode::Drive if v <= p.v_max => Uniform::new(v, zero.clone(), zero.clone(), &p.dt),
+            Mode::Brake if v > zero => {
+                Uniform::new(v, -p.k.b_min_dt.clone(), -p.k.half_b_min_dt2.clone(), &p.dt)
+            }
             _ => return None,
         };
+        let closing = Closing::new(&self.gap, &w, &p.dt, &uniform);
         // Observations: from period max(L, hidden_until) on; a leap stays on one side.
         let sighting = p.L.max(self.hidden_until);
         let observed = self.k >= sighting;
@@ -592,7 +624,7 @@ impl<N: Scalar> World<N> {
         } else {
             most.min(sighting - self.k)
         };
-        let holds = |m: usize| self.leap_holds(&uniform, &w, m, observed, watch);
+        let holds = |m: usize| self.leap_holds(&uniform, &closing, m, observed, watch);
         if !holds(1) {
             return None;
         }
@@ -617,15 +649,11 @@ impl<N: Scalar> World<N> {
             None
         };
         let p = &self.params;
-        let wdt = w.clone() * p.dt.clone();
-        let gap_after = |j: usize| {
-            self.gap.clone() - N::int(j as i64) * wdt.clone() - uniform.travelled(&p.dt, j)
-        };
         // History: the last L+1 period starts crossed (older ones stay).
         let keep = m.min(p.L + 1);
-        let pushed: Vec<N> = (m - keep..m).map(gap_after).collect();
-        let end_gap = gap_after(m);
-        let position = self.robot.position.clone() + uniform.travelled(&p.dt, m);
+        let pushed: Vec<N> = (m - keep..m).map(|j| closing.after(j)).collect();
+        let end_gap = closing.after(m);
+        let position = self.robot.position.clone() + uniform.travelled(m);
         let speed = uniform.speed(m);
         let cap = p.L + 1;
         for g in pushed {
@@ -659,7 +687,7 @@ impl<N: Scalar> World<N> {
     fn leap_holds(
         &self,
         uniform: &Uniform<N>,
-        w: &N,
+        closing: &Closing<N>,
         m: usize,
         observed: bool,
         watch: Watch,
@@ -677,11 +705,7 @@ impl<N: Scalar> World<N> {
         if !branch {
             return false;
         }
-        let gap_after = |j: usize| {
-            self.gap.clone()
-                - N::int(j as i64) * w.clone() * p.dt.clone()
-                - uniform.travelled(&p.dt, j)
-        };
+        let gap_after = |j: usize| closing.after(j);
         // No collision: gaps fall, so the last end gap is the lowest moving one.
         if gap_after(m) <= p.clearance {
             return false;
