@@ -615,7 +615,7 @@ impl<N: Scalar> World<N> {
             }
             _ => return None,
         };
-        let closing = Closing::new(&self.gap, &w, &p.dt, &uniform);
+
         // Observations: from period max(L, hidden_until) on; a leap stays on one side.
         let sighting = p.L.max(self.hidden_until);
         let observed = self.k >= sighting;
@@ -624,25 +624,44 @@ impl<N: Scalar> World<N> {
         } else {
             most.min(sighting - self.k)
         };
-        let holds = |m: usize| self.leap_holds(&uniform, &closing, m, observed, watch);
-        if !holds(1) {
+        let limits = Limits {
+            mode,
+            v: uniform.v.clone(),
+            s: uniform.s.clone(),
+            closing: Closing::new(&self.gap, &w, &p.dt, &uniform),
+            v_max: p.v_max.clone(),
+            clearance: p.clearance.clone(),
+            sigma_g: p.sigma_g.clone(),
+            rho: p.rho.clone(),
+            l: p.L,
+            history: if observed {
+                self.gaps.range(self.gaps.len() - p.L..).cloned().collect()
+            } else {
+                Vec::new()
+            },
+            observed,
+            watch,
+        };
+        if !limits.hold(1) {
             return None;
         }
-        let m = if holds(most) {
+        let m = if limits.hold(most) {
             most
         } else {
-            // holds(lo), !holds(hi)
-            let (mut lo, mut hi) = (1, most);
-            while hi - lo > 1 {
-                let mid = lo + (hi - lo) / 2;
-                if holds(mid) {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
+            // The boundary in floats first (cheap), then settled exactly around it: every
+            // condition is monotone in m, so exact probes at the guess and just past it
+            // decide, and a guess off by rounding only narrows the exact bisection.
+            let floats = limits.as_f64();
+            let guess = last_holding(1, most - 1, |m| floats.hold(m));
+            if !limits.hold(guess) {
+                last_holding(1, guess - 1, |m| limits.hold(m))
+            } else if limits.hold(guess + 1) {
+                last_holding(guess + 1, most - 1, |m| limits.hold(m))
+            } else {
+                guess
             }
-            lo
         };
+        let closing = &limits.closing;
         let first_seen = if observed {
             self.observation_if_shown()
         } else {
@@ -682,54 +701,64 @@ impl<N: Scalar> World<N> {
         self.k += m;
         Some(leap)
     }
+}
 
-    /// Whether the next `m` periods can be crossed at once ([`World::leap`]).
-    fn leap_holds(
-        &self,
-        uniform: &Uniform<N>,
-        closing: &Closing<N>,
-        m: usize,
-        observed: bool,
-        watch: Watch,
-    ) -> bool {
-        let p = &self.params;
-        let zero = N::zero();
+/// What decides how far a leap may go ([`World::leap`]), gathered once per leap: the
+/// robot's uniform motion, the closing gap, the bounds it is compared with and the gaps the
+/// first periods observe from the history. Generic so that the same conditions run on a
+/// float copy, which guides the bisection, and exactly, which decides.
+struct Limits<M> {
+    mode: Mode,
+    v: M,
+    s: M,
+    closing: Closing<M>,
+    v_max: M,
+    clearance: M,
+    sigma_g: M,
+    rho: M,
+    l: usize,
+    /// The last L gaps of the history, oldest first (what periods k … k+L−1 observe).
+    history: Vec<M>,
+    observed: bool,
+    watch: Watch,
+}
+
+impl<M: Scalar> Limits<M> {
+    /// Whether the next `m` periods can be crossed at once.
+    fn hold(&self, m: usize) -> bool {
+        let zero = M::zero();
         // The mode's branch of robot_motion in every period: Accelerate stays below
         // v_max − a·dt before its last period (v + m·a·dt < v_max), Brake above b_min·dt
         // (v − m·b_min·dt > 0); Drive at v ≤ v_max keeps v.
-        let branch = match self.robot.mode {
-            Mode::Accelerate => uniform.speed(m) < p.v_max,
-            Mode::Brake => uniform.speed(m) > zero,
+        let speed = || self.v.clone() + M::int(m as i64) * self.s.clone();
+        let branch = match self.mode {
+            Mode::Accelerate => speed() < self.v_max,
+            Mode::Brake => speed() > zero,
             _ => true,
         };
         if !branch {
             return false;
         }
-        let gap_after = |j: usize| closing.after(j);
         // No collision: gaps fall, so the last end gap is the lowest moving one.
-        if gap_after(m) <= p.clearance {
+        if self.closing.after(m) <= self.clearance {
             return false;
         }
-        if !observed {
+        if !self.observed {
             return true;
         }
-        // Period k observes the gap at (k−L)·dt: from the history while k−L < self.k, then
-        // in the stretch; the lowest is the last of each (gaps never grow).
-        let l = p.L;
-        let mut lowest: Option<N> = None;
-        let from_history = l.min(m);
-        for i in 0..from_history {
-            // observes g_{k+i−L}: history index from the back l − i (l ≥ 1 here).
-            let g = self.gaps[self.gaps.len() - (l - i)].clone();
+        // Period k observes the gap at (k−L)·dt: from the history while k−L < the first
+        // period, then in the stretch; the lowest is the last of each (gaps never grow).
+        let mut lowest: Option<M> = None;
+        for g in &self.history[..self.l.min(m)] {
             lowest = Some(match lowest {
-                Some(x) => N::min_of(x, g),
-                None => g,
+                Some(x) => M::min_of(x, g.clone()),
+                None => g.clone(),
             });
         }
-        if m > l {
-            let g = gap_after(m - 1 - l);
+        if m > self.l {
+            let g = self.closing.after(m - 1 - self.l);
             lowest = Some(match lowest {
-                Some(x) => N::min_of(x, g),
+                Some(x) => M::min_of(x, g),
                 None => g,
             });
         }
@@ -737,15 +766,53 @@ impl<N: Scalar> World<N> {
             return true;
         };
         // Whatever the error within ±σ_g, the observed gap is at least this.
-        let seen_low = lowest - p.sigma_g.clone();
-        let beyond_radius = seen_low > p.rho;
+        let seen_low = lowest - self.sigma_g.clone();
+        let beyond_radius = seen_low > self.rho;
         let not_passed = seen_low > zero;
-        match self.robot.mode {
+        match self.mode {
             // The guard fires only on a gap in (0, ρ].
             Mode::Accelerate | Mode::Drive => beyond_radius && not_passed,
-            _ => (!watch.radius || beyond_radius) && (!watch.passed || not_passed),
+            _ => (!self.watch.radius || beyond_radius) && (!self.watch.passed || not_passed),
         }
     }
+
+    /// The same limits in floats: a guide only (rounding may put its boundary a period or
+    /// so off the exact one).
+    fn as_f64(&self) -> Limits<f64> {
+        let f = |x: &M| x.as_f64();
+        Limits {
+            mode: self.mode,
+            v: f(&self.v),
+            s: f(&self.s),
+            closing: Closing {
+                gap: f(&self.closing.gap),
+                per_period: f(&self.closing.per_period),
+                sdt: f(&self.closing.sdt),
+            },
+            v_max: f(&self.v_max),
+            clearance: f(&self.clearance),
+            sigma_g: f(&self.sigma_g),
+            rho: f(&self.rho),
+            l: self.l,
+            history: self.history.iter().map(f).collect(),
+            observed: self.observed,
+            watch: self.watch,
+        }
+    }
+}
+
+/// The largest m in [lo, hi] with `hold(m)`, for a condition that holds at `lo` and, past
+/// some m, nowhere beyond.
+fn last_holding(mut lo: usize, mut hi: usize, hold: impl Fn(usize) -> bool) -> usize {
+    while lo < hi {
+        let mid = lo + (hi - lo).div_ceil(2);
+        if hold(mid) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    lo
 }
 
 #[cfg(test)]
