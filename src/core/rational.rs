@@ -33,26 +33,34 @@ fn gcd(a: u128, b: u128) -> u128 {
     }
 }
 
-fn gcd64(mut a: u64, mut b: u64) -> u64 {
-    if a == 0 {
-        return b;
-    }
-    if b == 0 {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
+// Binary (Stein's) gcd at one width: shifts and subtractions, no division.
+macro_rules! binary_gcd {
+    ($name:ident, $t:ty) => {
+        fn $name(mut a: $t, mut b: $t) -> $t {
+            if a == 0 {
+                return b;
+            }
+            if b == 0 {
+                return a;
+            }
+            let shift = (a | b).trailing_zeros();
+            a >>= a.trailing_zeros();
+            loop {
+                b >>= b.trailing_zeros();
+                if a > b {
+                    std::mem::swap(&mut a, &mut b);
+                }
+                b -= a;
+                if b == 0 {
+                    return a << shift;
+                }
+            }
         }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
-    }
+    };
 }
+
+binary_gcd!(gcd64, u64);
+binary_gcd!(gcd128, u128);
 
 /// `n / g` for a divisor `g` of `n` (g ≥ 1), in 64-bit words when both fit: a 128-bit
 /// division is a call into a software routine (`__divti3`), ten times a hardware one.
@@ -67,27 +75,6 @@ fn div_exact(n: i128, g: i128) -> i128 {
 /// products, fits in 128 bits without a check.
 fn fits64(x: i128) -> bool {
     x as i64 as i128 == x
-}
-
-fn gcd128(mut a: u128, mut b: u128) -> u128 {
-    if a == 0 {
-        return b;
-    }
-    if b == 0 {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
-    }
 }
 
 impl Rational {
