@@ -524,23 +524,17 @@ fn unreadable_messages_and_damaged_bags_are_fail_safe_events() {
             .all(|e| e["premise"] == "malformed_sample" && e["action"] == "brake"),
         "{events:?}"
     );
-    assert!(
-        details[0].contains("ends before its last field"),
-        "{details:?}"
-    );
-    assert!(
-        details[1].contains("message type is not one the monitor reads"),
-        "{details:?}"
-    );
-    assert!(
-        details[2].contains("message type is not one the monitor reads"),
-        "{details:?}"
-    );
-    assert!(
-        details[3].contains("robot_mode is not one of"),
-        "{details:?}"
-    );
-    assert!(details[4].contains("not CDR"), "{details:?}");
+    let expected = [
+        "ends before its last field",
+        "message type is not one the monitor reads",
+        "message type is not one the monitor reads",
+        "robot_mode is not one of",
+        "not CDR",
+    ];
+    assert_eq!(details.len(), expected.len(), "{details:?}");
+    for (detail, part) in details.iter().zip(expected) {
+        assert!(detail.contains(part), "{part:?} in {details:?}");
+    }
     assert_eq!(summary["fail_safe"]["malformed_sample"], 5);
 
     // A bag cut off mid-chunk: what came before is checked, then the damage is an event.
