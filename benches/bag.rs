@@ -20,8 +20,8 @@ use std::time::{Duration, Instant};
 
 use safereach::analysis::analyse;
 use safereach::core::model::Problem;
+use safereach::monitor::Monitor;
 use safereach::monitor::bag::{BagItem, BagOptions, BagReader};
-use safereach::monitor::{Lanes, Monitor};
 use safereach::proof::certificate::Certificate;
 
 #[allow(dead_code)]
@@ -177,13 +177,7 @@ fn main() {
             let mut monitor = fresh.clone();
             let mut events = 0;
             while let Some(item) = reader.next_item() {
-                let outcome = match item {
-                    BagItem::Sample { sample, .. } => {
-                        monitor.observe_named(reader.ids(), &sample, Lanes::UNKNOWN)
-                    }
-                    BagItem::Robot { sample, .. } => monitor.observe_robot(&sample, Lanes::UNKNOWN),
-                    BagItem::Malformed { t, detail, .. } => monitor.malformed(t, detail),
-                };
+                let outcome = monitor.observe_bag_item(reader.ids(), &item);
                 events += outcome.events.len() as u64;
             }
             events

@@ -63,16 +63,10 @@ fn run(data: &[u8]) {
         while let Some(item) = reader.next_item() {
             let was = monitor.verdict();
             let malformed = matches!(item, BagItem::Malformed { .. });
-            let outcome = match item {
-                BagItem::Sample { sample, .. } => {
-                    monitor.observe_named(reader.ids(), &sample, Default::default())
-                }
-                BagItem::Robot { sample, .. } => monitor.observe_robot(&sample, Default::default()),
-                BagItem::Malformed { t, detail, .. } => {
-                    assert_user_message(&detail.to_string(), "");
-                    monitor.malformed(t, detail)
-                }
-            };
+            if let BagItem::Malformed { detail, .. } = item {
+                assert_user_message(&detail.to_string(), "");
+            }
+            let outcome = monitor.observe_bag_item(reader.ids(), &item);
             fed += 1;
             if malformed || was == Verdict::Violated {
                 assert_eq!(outcome.verdict, Verdict::Violated, "fail safe, latched");

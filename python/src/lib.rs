@@ -17,8 +17,8 @@ use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::parameter::Parameter;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
-use safereach::monitor::bag::{BagItem, BagOptions, BagReader, LaneAxis, SpeedSource};
-use safereach::monitor::{Lanes, Monitor as LibMonitor, Sample};
+use safereach::monitor::bag::{BagOptions, BagReader, LaneAxis, SpeedSource};
+use safereach::monitor::{Monitor as LibMonitor, Sample};
 use safereach::proof::certificate::Certificate as LibCertificate;
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::region_check::check_map;
@@ -649,18 +649,8 @@ impl Monitor {
         let events = py.detach(move || {
             let mut events = Vec::new();
             while let Some(item) = reader.next_item() {
-                let (message, outcome) = match item {
-                    BagItem::Sample { sample, message } => (
-                        message,
-                        inner.observe_named(reader.ids(), &sample, Lanes::UNKNOWN),
-                    ),
-                    BagItem::Robot { sample, message } => {
-                        (message, inner.observe_robot(&sample, Lanes::UNKNOWN))
-                    }
-                    BagItem::Malformed { t, detail, message } => {
-                        (message, inner.malformed(t, detail))
-                    }
-                };
+                let message = item.message();
+                let outcome = inner.observe_bag_item(reader.ids(), &item);
                 for e in outcome.events {
                     let name = e.obstacle_id.map(|id| reader.ids().name(id).to_string());
                     events.push((message, *e, name));

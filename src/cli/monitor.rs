@@ -38,11 +38,11 @@ use serde::Serialize;
 
 use safereach::core::parameter::Parameter;
 use safereach::core::show::value;
-use safereach::monitor::bag::{BagItem, BagOptions, BagReader, BagStats, LaneAxis, SpeedSource};
+use safereach::monitor::bag::{BagOptions, BagReader, BagStats, LaneAxis, SpeedSource};
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Ids, Line, Lines, MAX_LINE};
 use safereach::monitor::{
-    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Lanes, Margin, Monitor,
-    PremiseSummary, RegionPoint, SceneSummary, Status, Summary, Verdict,
+    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
+    RegionPoint, SceneSummary, Status, Summary, Verdict,
 };
 use safereach::proof::certificate_file::{CertificateFile, is_region_map};
 use safereach::proof::json_read::from_json;
@@ -67,14 +67,9 @@ pub struct MonitorArgs {
     /// a bag on standard input needs --format mcap].
     #[arg(long, value_enum, value_name = "FORMAT")]
     format: Option<FormatArg>,
-    /// MCAP bag: the robot's nav_msgs/msg/Odometry topic.
-    #[arg(
-        long,
-        value_name = "TOPIC",
-        default_value = "/odom",
-        help_heading = "ROS 2 bags"
-    )]
-    robot_topic: String,
+    /// MCAP bag: the robot's nav_msgs/msg/Odometry topic [default: /odom].
+    #[arg(long, value_name = "TOPIC", help_heading = "ROS 2 bags")]
+    robot_topic: Option<String>,
     /// MCAP bag: an obstacle topic (autoware_perception_msgs/msg/TrackedObjects, or
     /// nav_msgs/msg/Odometry for one obstacle); repeatable, globs allowed ('/obstacles/*').
     /// Default: every TrackedObjects topic.
@@ -97,15 +92,9 @@ pub struct MonitorArgs {
     #[arg(long, value_name = "X,Y,YAW", help_heading = "ROS 2 bags")]
     lane_axis: Option<String>,
     /// MCAP bag: obstacle speeds from their twists (compared exactly), or estimated by the
-    /// monitor from successive positions.
-    #[arg(
-        long,
-        value_enum,
-        default_value = "twist",
-        value_name = "FROM",
-        help_heading = "ROS 2 bags"
-    )]
-    obstacle_speed: ObstacleSpeedArg,
+    /// monitor from successive positions [default: twist].
+    #[arg(long, value_enum, value_name = "FROM", help_heading = "ROS 2 bags")]
+    obstacle_speed: Option<ObstacleSpeedArg>,
     /// MCAP bag: obstacle messages are a simulator's ground truth (true positions at their
     /// stamps), which the controller sees the latency later, not the observations it had.
     #[arg(long, help_heading = "ROS 2 bags")]
@@ -219,18 +208,21 @@ fn bag_options(args: &MonitorArgs) -> Result<BagOptions> {
         .as_deref()
         .map(|text| lane_axis(text).map_err(|why| anyhow::anyhow!("--lane-axis {text:?}: {why}")))
         .transpose()?;
+    // Unset flags take the library's defaults, stated once (BagOptions::default).
+    let defaults = BagOptions::default();
     let options = BagOptions {
-        robot_topic: args.robot_topic.clone(),
+        robot_topic: args.robot_topic.clone().unwrap_or(defaults.robot_topic),
         obstacle_topics: args.obstacle_topics.clone(),
         mode_topic: args.mode_topic.clone(),
         infer_mode: args.infer_mode,
         lane_axis,
         obstacle_speed: match args.obstacle_speed {
-            ObstacleSpeedArg::Twist => SpeedSource::Twist,
-            ObstacleSpeedArg::Positions => SpeedSource::Positions,
+            None => defaults.obstacle_speed,
+            Some(ObstacleSpeedArg::Twist) => SpeedSource::Twist,
+            Some(ObstacleSpeedArg::Positions) => SpeedSource::Positions,
         },
         ground_truth: args.ground_truth,
-        max_obstacles: DEFAULT_MAX_OBSTACLES,
+        max_obstacles: defaults.max_obstacles,
     };
     Ok(options)
 }
@@ -251,16 +243,13 @@ fn lane_axis(text: &str) -> Result<LaneAxis, String> {
 /// Bag flags given with a text trace are a mistake worth naming.
 fn no_bag_flags(args: &MonitorArgs) -> Result<()> {
     let given = [
-        (args.robot_topic != "/odom", "--robot-topic"),
+        (args.robot_topic.is_some(), "--robot-topic"),
         (!args.obstacle_topics.is_empty(), "--obstacle-topic"),
         (args.mode_topic.is_some(), "--mode-topic"),
         (args.infer_mode, "--infer-mode"),
         (args.lane_axis.is_some(), "--lane-axis"),
         (args.ground_truth, "--ground-truth"),
-        (
-            matches!(args.obstacle_speed, ObstacleSpeedArg::Positions),
-            "--obstacle-speed",
-        ),
+        (args.obstacle_speed.is_some(), "--obstacle-speed"),
     ];
     if let Some((_, flag)) = given.iter().find(|(set, _)| *set) {
         anyhow::bail!(
@@ -407,19 +396,8 @@ fn run_bag(args: &MonitorArgs, out: &mut Output) -> Result<Exit> {
     let mut t_text = String::new();
     while let Some(item) = reader.next_item() {
         let was = monitor.verdict();
-        let (t, number, outcome) = match item {
-            BagItem::Sample { sample, message } => (
-                Some(sample.t),
-                message,
-                monitor.observe_named(reader.ids(), &sample, Lanes::UNKNOWN),
-            ),
-            BagItem::Robot { sample, message } => (
-                Some(sample.t),
-                message,
-                monitor.observe_robot(&sample, Lanes::UNKNOWN),
-            ),
-            BagItem::Malformed { t, detail, message } => (t, message, monitor.malformed(t, detail)),
-        };
+        let (t, number) = (item.t(), item.message());
+        let outcome = monitor.observe_bag_item(reader.ids(), &item);
         t_text.clear();
         if let Some(t) = t {
             use std::fmt::Write as _;

@@ -45,7 +45,8 @@ mod topics;
 pub use axis::{LaneAxis, world_velocity};
 pub use reader::BagReader;
 
-use crate::monitor::{DEFAULT_MAX_OBSTACLES, Detail, RobotSample, Sample};
+use crate::monitor::trace::Ids;
+use crate::monitor::{DEFAULT_MAX_OBSTACLES, Detail, Lanes, Monitor, Outcome, RobotSample, Sample};
 
 /// Where obstacle speeds come from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -146,6 +147,39 @@ pub enum BagItem {
         /// Its message (the last one read, for a corrupt bag).
         message: u64,
     },
+}
+
+impl BagItem {
+    /// The 1-based number of the message it came from.
+    pub fn message(&self) -> u64 {
+        match *self {
+            BagItem::Sample { message, .. }
+            | BagItem::Robot { message, .. }
+            | BagItem::Malformed { message, .. } => message,
+        }
+    }
+
+    /// Its time, when it has one that could be read.
+    pub fn t(&self) -> Option<f64> {
+        match *self {
+            BagItem::Sample { sample, .. } => Some(sample.t),
+            BagItem::Robot { sample, .. } => Some(sample.t),
+            BagItem::Malformed { t, .. } => t,
+        }
+    }
+}
+
+impl Monitor {
+    /// Checks one item of a bag: a sample (its obstacle named by `ids`, the reader's
+    /// [`BagReader::ids`]), a robot-only instant, or a fail-safe event. Bags state no lanes.
+    /// The one way every caller (the command line, Python, the fuzz target) feeds a bag.
+    pub fn observe_bag_item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_> {
+        match *item {
+            BagItem::Sample { sample, .. } => self.observe_named(ids, &sample, Lanes::UNKNOWN),
+            BagItem::Robot { sample, .. } => self.observe_robot(&sample, Lanes::UNKNOWN),
+            BagItem::Malformed { t, detail, .. } => self.malformed(t, detail),
+        }
+    }
 }
 
 /// What was read, for the summary and for users looking for a misnamed topic.
