@@ -179,6 +179,8 @@ pub struct Decomposition {
     /// Robot state at each step's start along the drive profile, up to the cruise onset;
     /// later states follow from it (see [`Decomposition::drive`]).
     profile: Vec<RobotState<Exact>>,
+    /// The profile's positions as small rationals (for loops that step through it).
+    fast_positions: Vec<Rational>,
     /// First step at whose start the robot cruises at v_max.
     pub cruise_from: usize,
     /// First brake step any piece can have: before it even the fastest obstacle is
@@ -221,18 +223,20 @@ fn stopping(p: &Params<Exact>, v: Exact) -> (Exact, Exact) {
 }
 
 /// The drive profile up to the cruise onset, through the step function (in [`Rational`]).
-fn drive_profile(params: &Params<Exact>) -> Vec<RobotState<Exact>> {
+fn drive_profile(params: &Params<Exact>) -> (Vec<RobotState<Exact>>, Vec<Rational>) {
     let p: Params<Rational> = params.map(Rational::from_exact);
     let mut state = RobotState::initial(&p);
     let mut profile = Vec::new();
+    let mut positions = Vec::new();
     loop {
+        positions.push(state.position.clone());
         profile.push(RobotState {
             position: state.position.to_exact(),
             speed: state.speed.to_exact(),
             mode: state.mode,
         });
         if state.speed >= p.v_max {
-            return profile;
+            return (profile, positions);
         }
         state = robot_motion(&p, &state).end;
     }
@@ -265,8 +269,9 @@ impl Decomposition {
         merge: bool,
         region: Option<ParamBox>,
     ) -> Self {
-        let profile = drive_profile(&params);
+        let (profile, fast_positions) = drive_profile(&params);
         let mut d = Decomposition {
+            fast_positions,
             cruise_stop: stopping(&params, params.v_max.clone()),
             cruise_from: profile.len() - 1,
             profile,
@@ -887,14 +892,41 @@ impl Decomposition {
     /// [`Decomposition::fastest_approach`]) at the point `p` has covered at least `need`, if
     /// any before the robot alone reaches the obstacle's start.
     fn first_fast_cover(&self, p: &Params<Exact>, from: usize, need: &Exact) -> Option<usize> {
-        // In exact values: only where it covers enough matters here, not its slopes.
-        let end = self.last_brake;
-        let mut gap = p.g0.clone();
-        for j in 0..end {
-            if j >= from && p.g0.clone() - self.position(j) - gap.clone() >= *need {
+        // In exact values: only where it covers enough matters here, not its slopes. The
+        // obstacle's own position x = gap + P_j is tracked (the approach covers g0 − x), so a
+        // step is `x −= w·dt` with w as in `fastest_step`: no robot step is subtracted, and
+        // small rationals keep the hundreds of steps per box cheap.
+        let q = |x: &Exact| Rational::from_exact(x);
+        let dt = q(&p.dt);
+        let w_dt = q(&p.W) * dt.clone();
+        let slow_dt = q(&slowest_fast(p)) * dt;
+        let edge = q(&p.rho) - q(&p.sigma_g);
+        let covered = q(&p.g0) - q(need);
+        let step = q(&self.params.v_max) * q(&self.params.dt);
+        let mut x = q(&p.g0);
+        let mut next = self.fast_positions[0].clone();
+        for j in 0..self.last_brake {
+            if j >= from && x <= covered {
                 return Some(j);
             }
-            gap = self.fastest_step(p, j, gap);
+            next = match self.fast_positions.get(j + 1) {
+                Some(position) => position.clone(),
+                None => next + step.clone(),
+            };
+            // Where the obstacle would be after a step at W, measured from the area's edge.
+            let inner = next.clone() + edge.clone();
+            let at_w = x.clone() - w_dt.clone();
+            x = if at_w > inner {
+                at_w
+            } else {
+                let to_edge = x.clone() - inner;
+                let w = if to_edge > slow_dt {
+                    to_edge
+                } else {
+                    slow_dt.clone()
+                };
+                x - if w > w_dt { w_dt.clone() } else { w }
+            };
         }
         None
     }
@@ -1017,6 +1049,53 @@ mod tests {
              obstacle_speed = 0.15\ninitial_gap = 10.0\n"
         );
         Problem::from_toml_str(&text, "test").expect("valid")
+    }
+
+    /// The fastest approach's cover search (obstacle positions in small rationals) finds
+    /// the first anchor a scan of [`Decomposition::fastest_approach`] (gaps in exact
+    /// numbers, the definition) finds: outside and inside the area, with noise, with the
+    /// slowest in-area speed below and at W, and before and after the cruise onset.
+    #[test]
+    fn first_fast_cover_is_a_scan_of_the_fastest_approach() {
+        for (w, rho, v_a, sigma_g, sigma_w, g0) in [
+            (0.15, 1.4, 0.2, 0.0, 0.0, 10.0),
+            (0.3, 1.4, 0.05, 0.0, 0.0, 3.0),
+            (0.3, 2.5, 0.1, 0.2, 0.03, 4.0),
+            (0.05, 1.0, 0.01, 0.1, 0.0, 1.5),
+        ] {
+            let mut pr = problem(0.2, 0.1, 0.05, 0.1);
+            pr.environment.obstacle_speed = w;
+            pr.controller.reaction_radius = rho;
+            pr.controller.assumed_obstacle_speed = v_a;
+            pr.environment.initial_gap = crate::core::model::Position::At(g0);
+            pr.sensing = Some(crate::core::model::Sensing {
+                gap_noise: Some(sigma_g),
+                speed_noise: Some(sigma_w),
+                first_detection_gap: None,
+            });
+            let d = Decomposition::new(&pr);
+            let p = d.params.clone();
+            // What the approach has covered by each anchor: the obstacle's steps so far.
+            let (speeds, _) = d.fastest_approach(d.last_brake);
+            let mut covered = vec![Exact::ZERO];
+            for w in &speeds {
+                let last = covered.last().expect("not empty").clone();
+                covered.push(last + w.clone() * p.dt.clone());
+            }
+            // Covers reached outside the area, at its edge and deep inside it.
+            let mut needs = vec![Exact::ZERO, p.v_max.clone() * p.dt.clone()];
+            needs.extend((1..20).map(|k| p.g0.clone() * Exact::from(k) / Exact::from(20)));
+            for need in needs {
+                for from in [0, 3, d.cruise_from, d.cruise_from + 7, d.last_brake] {
+                    let scan = (from..d.last_brake).find(|&j| covered[j] >= need);
+                    assert_eq!(
+                        d.first_fast_cover(&p, from, &need),
+                        scan,
+                        "W {w}, rho {rho}, V_a {v_a}, noise {sigma_g}/{sigma_w}, from {from}"
+                    );
+                }
+            }
+        }
     }
 
     /// The closed-form stop equals braking period by period through the step function,
