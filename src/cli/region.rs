@@ -28,7 +28,8 @@ pub struct RegionArgs {
     problem: PathBuf,
     /// A ranged parameter, `KEY=LO..HI` (repeatable): environment.obstacle_speed,
     /// controller.reaction_radius, controller.assumed_obstacle_speed, controller.buffer,
-    /// environment.initial_gap, robot.clearance, sensing.gap_noise, sensing.speed_noise.
+    /// environment.initial_gap, robot.clearance, sensing.gap_noise, sensing.speed_noise,
+    /// sensing.first_detection_gap.
     #[arg(long = "range", value_name = "KEY=LO..HI", required = true)]
     ranges: Vec<String>,
     /// Override a key (repeatable).

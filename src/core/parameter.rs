@@ -1,6 +1,6 @@
 //! The problem's named parameters, and numbers that are affine in them.
 //!
-//! W, ρ, V_a, the buffer, the initial gap, the clearance and the noise bounds enter a piece's program only
+//! W, ρ, V_a, the buffer, the initial gap, the clearance, the noise bounds and d_det enter a piece's program only
 //! through right-hand sides, variable bounds and the objective's constant — never through
 //! its matrix. A [`ParamAffine`] carries such a number together with its exact partial
 //! derivatives in those parameters, so that a bound proved by fixed dual multipliers is an
@@ -17,6 +17,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::core::model::{Params, Position, Problem, Sensing};
 use crate::core::num::{Exact, Scalar, exact_decimal};
+
+/// The value of a parameter the problem does not set (d_det: no obstacle is hidden). No
+/// affine number depends on it then.
+static UNSET: Exact = Exact::ZERO;
 
 /// A parameter that programs depend on affinely.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -39,11 +43,14 @@ pub enum Parameter {
     GapNoise,
     /// σ_w, `sensing.speed_noise` (m/s).
     SpeedNoise,
+    /// d_det, `sensing.first_detection_gap` (m): enters only the first sighting's row
+    /// `g ≥ d_det`.
+    FirstDetectionGap,
 }
 
 impl Parameter {
     /// Every parameter, in a fixed order.
-    pub const ALL: [Parameter; 8] = [
+    pub const ALL: [Parameter; 9] = [
         Parameter::ObstacleSpeed,
         Parameter::ReactionRadius,
         Parameter::AssumedObstacleSpeed,
@@ -52,6 +59,7 @@ impl Parameter {
         Parameter::Clearance,
         Parameter::GapNoise,
         Parameter::SpeedNoise,
+        Parameter::FirstDetectionGap,
     ];
 
     /// The problem-file key that sets it.
@@ -65,6 +73,7 @@ impl Parameter {
             Parameter::Clearance => "robot.clearance",
             Parameter::GapNoise => "sensing.gap_noise",
             Parameter::SpeedNoise => "sensing.speed_noise",
+            Parameter::FirstDetectionGap => "sensing.first_detection_gap",
         }
     }
 
@@ -94,6 +103,7 @@ impl Parameter {
             Parameter::Clearance => "clearance",
             Parameter::GapNoise => "σ_g",
             Parameter::SpeedNoise => "σ_w",
+            Parameter::FirstDetectionGap => "d_det",
         }
     }
 
@@ -111,6 +121,7 @@ impl Parameter {
             Parameter::Clearance => p.clearance = value,
             Parameter::GapNoise => p.sigma_g = value,
             Parameter::SpeedNoise => p.sigma_w = value,
+            Parameter::FirstDetectionGap => p.d_det = Some(value),
         }
     }
 
@@ -125,6 +136,8 @@ impl Parameter {
             Parameter::Clearance => problem.robot.clearance,
             Parameter::GapNoise => problem.gap_noise(),
             Parameter::SpeedNoise => problem.speed_noise(),
+            // (Unset: no obstacle is hidden; 0 lies in no box, since d_det > 0.)
+            Parameter::FirstDetectionGap => problem.first_detection_gap().unwrap_or(0.0),
         }
     }
 
@@ -149,6 +162,12 @@ impl Parameter {
                     .get_or_insert_with(Sensing::default)
                     .speed_noise = Some(value);
             }
+            Parameter::FirstDetectionGap => {
+                problem
+                    .sensing
+                    .get_or_insert_with(Sensing::default)
+                    .first_detection_gap = Some(value);
+            }
         }
     }
 
@@ -163,6 +182,7 @@ impl Parameter {
             Parameter::Clearance => &p.clearance,
             Parameter::GapNoise => &p.sigma_g,
             Parameter::SpeedNoise => &p.sigma_w,
+            Parameter::FirstDetectionGap => p.d_det.as_ref().unwrap_or(&UNSET),
         }
     }
 }
@@ -366,7 +386,7 @@ pub fn symbolic(p: &Params<Exact>) -> Params<ParamAffine> {
         },
         sigma_g: s(Parameter::GapNoise),
         sigma_w: s(Parameter::SpeedNoise),
-        d_det: p.d_det.as_ref().map(c),
+        d_det: p.d_det.as_ref().map(|_| s(Parameter::FirstDetectionGap)),
         k: p.k.map(&c),
     }
 }

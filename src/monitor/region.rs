@@ -12,6 +12,8 @@
 //! - The controller's reaction radius ρ and buffer take the **lower** ends: the danger the
 //!   robot must react to is the least any certified controller of the box reacts to (a
 //!   robot that brakes earlier is braking without being asked, which no monitor flags).
+//! - The start and the first sighting take the **lower** ends: g0 and d_det (an obstacle
+//!   first seen at a smaller gap is within the premises of the point with the lower d_det).
 //! - The assumed bound V_a has no end that asks least (the wrong-assumption guard fires less
 //!   often at the upper end, the kinematic danger distance is shorter at the lower), so a
 //!   ranged V_a must be named: the value the robot's controller runs with.
@@ -101,7 +103,7 @@ impl Monitor {
                     "only the controller's parameters can be named (controller.reaction_radius, \
                      controller.assumed_obstacle_speed, controller.buffer); the monitor takes \
                      the box's {} end of {}",
-                    if *p == Parameter::InitialGap {
+                    if matches!(p, Parameter::InitialGap | Parameter::FirstDetectionGap) {
                         "lower"
                     } else {
                         "upper"
@@ -123,7 +125,13 @@ impl Monitor {
             let named = at.controller.iter().find(|(p, _)| *p == a.parameter);
             let value = match (a.parameter, named) {
                 (_, Some((_, v))) => *v,
-                (Parameter::ReactionRadius | Parameter::Buffer | Parameter::InitialGap, _) => a.lo,
+                (
+                    Parameter::ReactionRadius
+                    | Parameter::Buffer
+                    | Parameter::InitialGap
+                    | Parameter::FirstDetectionGap,
+                    _,
+                ) => a.lo,
                 (Parameter::AssumedObstacleSpeed, None) if a.lo < a.hi => {
                     return refuse(format!(
                         "the box ranges {} over [{}, {}]: name the value the robot's \

@@ -65,8 +65,9 @@ pub fn refusal(problem: &Problem, whole: &ParamBox) -> Option<String> {
                 .into(),
         );
     }
-    let base = problem.params::<Exact>();
-    if base.d_det.is_some() {
+    let hidden = problem.first_detection_gap().is_some()
+        || whole.axis(Parameter::FirstDetectionGap).is_some();
+    if hidden {
         let dec = Decomposition::for_box(problem, whole);
         if dec.wrong_assumption_active() {
             return Some(

@@ -57,8 +57,15 @@ fn runs(problem: &Problem, sets: &[(Parameter, f64)], count: usize) -> Vec<Vec<S
     (0..count)
         .flat_map(|i| {
             let run = monte_carlo_run(&params, 7, i, horizon(&params), false);
-            let rows = trace(&params, &run);
-            [samples_of(&rows, true), samples_of(&rows, false)]
+            // A hidden obstacle's trace starts at the true position its first sighting shows
+            // (a sensor reports nothing of it before).
+            let shown = run
+                .records
+                .iter()
+                .position(|r| r.observation.is_some())
+                .map_or(0, |k| k.saturating_sub(params.L));
+            let rows = &trace(&params, &run)[shown..];
+            [samples_of(rows, true), samples_of(rows, false)]
         })
         .collect()
 }
@@ -280,4 +287,28 @@ fn the_command_line_monitors_a_map() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("cert.json is a certificate"));
+}
+
+#[test]
+fn a_ranged_first_sighting_is_monitored_at_its_lower_end() {
+    use Parameter::FirstDetectionGap as Det;
+    let seed = Problem::load(&seed_file()).unwrap();
+    let m = map(&seed, &[(W, 0.10, 0.15), (Det, 1.1, 1.5)], 4);
+    assert!(
+        m.all_certified(),
+        "the box certifies whole: {:?}",
+        m.coverage
+    );
+    let by_map = Monitor::for_region(&m, &RegionPoint::default()).expect("monitorable");
+    let corner = point_monitor(&seed, &[(W, 0.15), (Det, 1.1)]);
+    // Runs whose obstacles stay hidden until a gap near 1.1 m: within the box's premises.
+    let late = runs(&seed, &[(W, 0.15), (Det, 1.1)], 12);
+    assert_eq!(same_events(&by_map, &corner, &late), 0);
+    // The upper end would flag them: a sighting below 1.5 m breaks its premise.
+    let upper = point_monitor(&seed, &[(W, 0.15), (Det, 1.5)]);
+    let flagged = late
+        .iter()
+        .filter(|s| !sample_events(&mut upper.clone(), s).is_empty())
+        .count();
+    assert!(flagged > 0, "d_det = 1.5 flags sightings at 1.1 m");
 }

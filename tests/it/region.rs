@@ -135,7 +135,7 @@ fn the_seed_plane_agrees_with_certify_at_random_points() {
 fn other_rules_planes_and_noise_agree_with_certify() {
     // V_a = 0.17 is no cut point, so leaves straddle W = V_a (the wrong-assumption guard
     // active in part of a leaf); the kinematic rule over (V_a, buffer); the area rule over
-    // (W, initial gap); noise over (σ_g, ρ); a clearance over (clearance, W).
+    // (W, initial gap); noise over (σ_g, ρ); a clearance over (clearance, W); d_det.
     let cases: Vec<(Problem, Vec<Axis>)> = vec![
         (
             load_problem("seed.toml", &["controller.assumed_obstacle_speed=0.17"]),
@@ -170,6 +170,21 @@ fn other_rules_planes_and_noise_agree_with_certify() {
             vec![
                 axis("robot.clearance", 0.0, 0.4),
                 axis("environment.obstacle_speed", 0.1, 0.25),
+            ],
+        ), // Occlusion: the first sighting's gap d_det over (W, d_det) where the guard cannot
+        // fire (W ≤ V_a), and without the guard over (d_det, ρ).
+        (
+            load_problem("seed.toml", &[]),
+            vec![
+                axis("environment.obstacle_speed", 0.1, 0.19),
+                axis("sensing.first_detection_gap", 0.3, 1.4),
+            ],
+        ),
+        (
+            load_problem("seed.toml", &["controller.wrong_assumption_brake=false"]),
+            vec![
+                axis("sensing.first_detection_gap", 0.2, 1.5),
+                axis("controller.reaction_radius", 1.0, 1.8),
             ],
         ),
     ];
@@ -422,6 +437,19 @@ fn ranges_the_programs_cannot_take_are_refused_with_the_reason() {
             (
                 vec!["--range", "controller.reaction_radius=-1..1"],
                 "controller.reaction_radius",
+            ),
+            (
+                vec![
+                    "--range",
+                    "sensing.first_detection_gap=0.5..1",
+                    "--range",
+                    "environment.obstacle_speed=0.1..0.3",
+                ],
+                "wrong-assumption guard",
+            ),
+            (
+                vec!["--range", "sensing.first_detection_gap=0..1"],
+                "sensing.first_detection_gap",
             ),
         ],
     );
