@@ -188,26 +188,17 @@ impl Program {
     /// unusable ([`Program::dual_in_cone`]).
     pub fn bound_affine(&self, z: &[f64], objective: bool) -> Option<ParamAffine> {
         let z = self.dual_in_cone(z)?;
+        let r = self.reduced_costs(&z, objective);
         let zero = Exact::ZERO;
-        let mut r: Vec<Exact> = match (&self.objective, objective) {
-            (Some(c), true) => c.clone(),
-            _ => vec![zero.clone(); self.n()],
-        };
         let mut total = if objective {
             self.constant.clone()
         } else {
             ParamAffine::constant(zero.clone())
         };
         for (row, zi) in self.rows.iter().zip(&z) {
-            if *zi == zero {
-                continue;
+            if *zi != zero {
+                total = total - row.b.scaled(zi);
             }
-            for (rj, aij) in r.iter_mut().zip(&row.a) {
-                if *aij != zero {
-                    *rj += zi * aij;
-                }
-            }
-            total = total - row.b.scaled(zi);
         }
         for (rj, var) in r.iter().zip(&self.vars) {
             if *rj > zero {
@@ -219,10 +210,51 @@ impl Program {
         Some(total)
     }
 
+    /// c − Aᵀz (with c = 0 when `objective` is false): what each variable's box must pay.
+    fn reduced_costs(&self, z: &[Exact], objective: bool) -> Vec<Exact> {
+        let zero = Exact::ZERO;
+        let mut r: Vec<Exact> = match (&self.objective, objective) {
+            (Some(c), true) => c.clone(),
+            _ => vec![zero.clone(); self.n()],
+        };
+        for (row, zi) in self.rows.iter().zip(z) {
+            if *zi == zero {
+                continue;
+            }
+            for (rj, aij) in r.iter_mut().zip(&row.a) {
+                if *aij != zero {
+                    *rj += zi * aij;
+                }
+            }
+        }
+        r
+    }
+
     /// The exact bound proved by multipliers `z` at the problem's parameters
-    /// ([`Program::bound_affine`]'s value).
+    /// ([`Program::bound_affine`]'s value, without its slopes: point analyses ask for
+    /// thousands of these).
     pub fn bound(&self, z: &[f64], objective: bool) -> Option<Exact> {
-        self.bound_affine(z, objective).map(|b| b.value)
+        let z = self.dual_in_cone(z)?;
+        let r = self.reduced_costs(&z, objective);
+        let zero = Exact::ZERO;
+        let mut total = if objective {
+            self.constant.value.clone()
+        } else {
+            zero.clone()
+        };
+        for (row, zi) in self.rows.iter().zip(&z) {
+            if *zi != zero {
+                total -= zi * &row.b.value;
+            }
+        }
+        for (rj, var) in r.iter().zip(&self.vars) {
+            if *rj > zero {
+                total += rj * &var.lower.value;
+            } else if *rj < zero {
+                total += rj * &var.upper.value;
+            }
+        }
+        Some(total)
     }
 
     /// Whether multipliers `z` prove that no point satisfies the rows *as the model states
@@ -412,6 +444,58 @@ mod tests {
             c(0, 1),
         );
         assert_eq!(touch.infeasible_row(), Some(0));
+    }
+
+    /// The value-only bound is the affine bound's value, on the seed's programs (noise and
+    /// the wrong-assumption guard on: every row kind) for many multiplier vectors, with and
+    /// without the objective.
+    #[test]
+    fn the_bound_is_the_affine_bounds_value() {
+        use crate::core::model::{Problem, Sensing};
+        let mut problems = Vec::new();
+        for (w, latency, noise) in [
+            (0.1, 1, 0.0),
+            (0.3, 1, 0.05),
+            (0.25, 3, 0.0),
+            (0.3, 2, 0.02),
+        ] {
+            let mut p = Problem::shipped_seed();
+            p.environment.obstacle_speed = w;
+            p.robot.latency = latency;
+            p.sensing = Some(Sensing {
+                gap_noise: Some(noise),
+                speed_noise: Some(noise / 5.0),
+                first_detection_gap: None,
+            });
+            problems.push(p);
+        }
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            // Multipliers in [0, 3), a quarter of them exactly 0.
+            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+            if u < 0.25 { 0.0 } else { 4.0 * (u - 0.25) }
+        };
+        let mut compared = 0;
+        for d in problems
+            .iter()
+            .map(crate::proof::schedule::Decomposition::new)
+        {
+            for piece in d.pieces.iter().take(40) {
+                let p = d.program(piece);
+                for _ in 0..20 {
+                    let z: Vec<f64> = (0..p.rows.len()).map(|_| next()).collect();
+                    for objective in [true, false] {
+                        let affine = p.bound_affine(&z, objective).map(|b| b.value);
+                        assert_eq!(p.bound(&z, objective), affine, "{}", piece.describe());
+                        compared += usize::from(affine.is_some());
+                    }
+                }
+            }
+        }
+        assert!(compared > 200, "{compared} bounds compared");
     }
 
     #[test]
