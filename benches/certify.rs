@@ -192,4 +192,37 @@ fn main() {
             t_check.as_secs_f64() * 1e6
         );
     }
+
+    // What grows with the latency (issue 12): the seed at dt = 0.01 s with L from 0 to 200
+    // periods (up to 2 s of lag), its buffer grown by what robot and obstacle close during
+    // the lag so that every case certifies (a case that refutes stops at its first colliding
+    // piece and says nothing about cost). Both sides of the wrong-assumption guard: W below
+    // V_a (no in-area pieces) and above it (ρ = 4 m).
+    for (w, rho) in [(0.15, 3.0), (0.3, 4.0)] {
+        for l in [0u32, 1, 10, 50, 100, 200] {
+            let mut p = seed.clone();
+            p.robot.control_period = 0.01;
+            p.robot.acceleration = 0.05;
+            p.robot.latency = l;
+            p.environment.obstacle_speed = w;
+            p.controller.reaction_radius = rho;
+            p.controller.buffer = 0.11 + (0.2 + w) * 0.01 * f64::from(l);
+            let a = analyse(&p).expect("analyses");
+            let t = median(11, 3, || {
+                certify(black_box(&p));
+            });
+            let cert = Certificate::from_analysis(&a);
+            let t_check = median(11, 3, || {
+                black_box(check(black_box(&cert)).expect("verifies"));
+            });
+            println!(
+                "latency {l:>3} (W = {w}, dt = 0.01 s): {} with {} pieces, {} programs; certify {:>8.1} µs, check {:>8.1} µs",
+                a.verdict.as_str(),
+                a.outcomes.len(),
+                a.programs_solved,
+                t.as_secs_f64() * 1e6,
+                t_check.as_secs_f64() * 1e6
+            );
+        }
+    }
 }

@@ -865,8 +865,14 @@ impl Decomposition {
     /// speeds down by a factor λ ≤ 1: the scaled path is farther out at every step, so it is
     /// inside the area at fewer steps, and there its speed is a fraction of one ≤ V_a.
     pub fn fastest_approach(&self, m: usize) -> (Vec<Exact>, Exact) {
-        let (speeds, gap) = self.fastest_approach_affine(&symbolic(&self.params), m);
-        (speeds.into_iter().map(|w| w.value).collect(), gap.value)
+        // In values only (a witness's speeds need no slopes): small rationals, one
+        // subtraction per step ([`FastApproach`]).
+        let mut run = FastApproach::new(self, &self.params);
+        let dt = Rational::from_exact(&self.params.dt);
+        let speeds = (0..m)
+            .map(|_| (run.step() / dt.clone()).to_exact())
+            .collect();
+        (speeds, (run.x - run.next).to_exact())
     }
 
     /// [`Decomposition::fastest_approach`] with its numbers affine in the parameters (each
@@ -892,41 +898,14 @@ impl Decomposition {
     /// [`Decomposition::fastest_approach`]) at the point `p` has covered at least `need`, if
     /// any before the robot alone reaches the obstacle's start.
     fn first_fast_cover(&self, p: &Params<Exact>, from: usize, need: &Exact) -> Option<usize> {
-        // In exact values: only where it covers enough matters here, not its slopes. The
-        // obstacle's own position x = gap + P_j is tracked (the approach covers g0 − x), so a
-        // step is `x −= w·dt` with w as in `fastest_step`: no robot step is subtracted, and
-        // small rationals keep the hundreds of steps per box cheap.
-        let q = |x: &Exact| Rational::from_exact(x);
-        let dt = q(&p.dt);
-        let w_dt = q(&p.W) * dt.clone();
-        let slow_dt = q(&slowest_fast(p)) * dt;
-        let edge = q(&p.rho) - q(&p.sigma_g);
-        let covered = q(&p.g0) - q(need);
-        let step = q(&self.params.v_max) * q(&self.params.dt);
-        let mut x = q(&p.g0);
-        let mut next = self.fast_positions[0].clone();
+        // In exact values: only where it covers enough matters here, not its slopes.
+        let mut run = FastApproach::new(self, p);
+        let covered = Rational::from_exact(&p.g0) - Rational::from_exact(need);
         for j in 0..self.last_brake {
-            if j >= from && x <= covered {
+            if j >= from && run.x <= covered {
                 return Some(j);
             }
-            next = match self.fast_positions.get(j + 1) {
-                Some(position) => position.clone(),
-                None => next + step.clone(),
-            };
-            // Where the obstacle would be after a step at W, measured from the area's edge.
-            let inner = next.clone() + edge.clone();
-            let at_w = x.clone() - w_dt.clone();
-            x = if at_w > inner {
-                at_w
-            } else {
-                let to_edge = x.clone() - inner;
-                let w = if to_edge > slow_dt {
-                    to_edge
-                } else {
-                    slow_dt.clone()
-                };
-                x - if w > w_dt { w_dt.clone() } else { w }
-            };
+            run.step();
         }
         None
     }
@@ -969,6 +948,68 @@ impl Decomposition {
 pub(crate) fn slowest_fast<N: Approach>(s: &Params<N>) -> N {
     let seen = s.V_a.clone() + s.sigma_w.clone();
     if seen > s.W { s.W.clone() } else { seen }
+}
+
+/// The fastest approach ([`Decomposition::fastest_approach`]) at one point, step by step,
+/// in small rationals. It tracks the obstacle's own position x = gap + P_j (so the approach
+/// has covered g0 − x), which makes a step `x −= w·dt` with w chosen as in `fastest_step`:
+/// no robot step is subtracted, and hundreds of steps per decomposition stay cheap.
+struct FastApproach<'d> {
+    dec: &'d Decomposition,
+    /// W·dt, min(W, V_a + σ_w)·dt, the area's inner edge ρ − σ_g, the cruise step v_max·dt.
+    w_dt: Rational,
+    slow_dt: Rational,
+    edge: Rational,
+    cruise_step: Rational,
+    /// The step taken so far, the obstacle's position and the robot's at step j.
+    j: usize,
+    x: Rational,
+    next: Rational,
+}
+
+impl<'d> FastApproach<'d> {
+    fn new(dec: &'d Decomposition, p: &Params<Exact>) -> Self {
+        let q = Rational::from_exact;
+        let dt = q(&p.dt);
+        // (The robot starts at position 0, so x starts at g0.)
+        debug_assert!(dec.fast_positions[0] == Rational::from_exact(&Exact::ZERO));
+        FastApproach {
+            dec,
+            w_dt: q(&p.W) * dt.clone(),
+            slow_dt: q(&slowest_fast(p)) * dt,
+            edge: q(&p.rho) - q(&p.sigma_g),
+            cruise_step: q(&dec.params.v_max) * q(&dec.params.dt),
+            j: 0,
+            x: q(&p.g0),
+            next: dec.fast_positions[0].clone(),
+        }
+    }
+
+    /// Takes step j; returns how far the obstacle moved (w_j·dt).
+    fn step(&mut self) -> Rational {
+        self.j += 1;
+        self.next = match self.dec.fast_positions.get(self.j) {
+            Some(position) => position.clone(),
+            None => self.next.clone() + self.cruise_step.clone(),
+        };
+        // At W the obstacle ends the step outside the area's inner edge; else it moves to
+        // that edge, at least at the slowest in-area speed and at most at W.
+        let inner = self.next.clone() + self.edge.clone();
+        let at_w = self.x.clone() - self.w_dt.clone();
+        let moved = if at_w > inner {
+            self.w_dt.clone()
+        } else {
+            let to_edge = self.x.clone() - inner;
+            let w = if to_edge > self.slow_dt {
+                to_edge
+            } else {
+                self.slow_dt.clone()
+            };
+            if w > self.w_dt { self.w_dt.clone() } else { w }
+        };
+        self.x = self.x.clone() - moved.clone();
+        moved
+    }
 }
 
 /// The numbers the fastest approach runs in: exact values (where it has covered enough) or
@@ -1056,7 +1097,7 @@ mod tests {
     /// numbers, the definition) finds: outside and inside the area, with noise, with the
     /// slowest in-area speed below and at W, and before and after the cruise onset.
     #[test]
-    fn first_fast_cover_is_a_scan_of_the_fastest_approach() {
+    fn the_fastest_approach_in_small_rationals_is_the_exact_definition() {
         for (w, rho, v_a, sigma_g, sigma_w, g0) in [
             (0.15, 1.4, 0.2, 0.0, 0.0, 10.0),
             (0.3, 1.4, 0.05, 0.0, 0.0, 3.0),
@@ -1076,12 +1117,17 @@ mod tests {
             let d = Decomposition::new(&pr);
             let p = d.params.clone();
             // What the approach has covered by each anchor: the obstacle's steps so far.
-            let (speeds, _) = d.fastest_approach(d.last_brake);
+            // (The definition: gaps stepped in exact affine numbers.)
+            let (speeds, gap) = d.fastest_approach_affine(&symbolic(&p), d.last_brake);
             let mut covered = vec![Exact::ZERO];
             for w in &speeds {
                 let last = covered.last().expect("not empty").clone();
-                covered.push(last + w.clone() * p.dt.clone());
+                covered.push(last + w.value.clone() * p.dt.clone());
             }
+            // The witness path (small rationals) gives the same speeds and gap.
+            let (fast, fast_gap) = d.fastest_approach(d.last_brake);
+            assert!(fast.iter().zip(&speeds).all(|(a, b)| *a == b.value));
+            assert_eq!(fast_gap, gap.value);
             // Covers reached outside the area, at its edge and deep inside it.
             let mut needs = vec![Exact::ZERO, p.v_max.clone() * p.dt.clone()];
             needs.extend((1..20).map(|k| p.g0.clone() * Exact::from(k) / Exact::from(20)));
