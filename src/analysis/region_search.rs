@@ -12,7 +12,7 @@
 //! not a claim: only the centre is checked.
 
 use std::collections::BTreeMap;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use rustc_hash::FxHashMap;
 
@@ -71,9 +71,12 @@ struct Task {
 }
 
 /// What the analysis says at points (keyed by their ranged values' bits): neighbouring
-/// boxes share corners.
+/// boxes share corners. Each point is analysed exactly once — a box that needs a corner
+/// another thread is analysing waits for its verdict — so the map's count of programs
+/// solved does not depend on how the threads met. (A point's analysis runs no rayon jobs,
+/// so a waiting worker never picks up a box that needs the corner it waits for.)
 #[derive(Default)]
-struct Corners(Mutex<FxHashMap<Vec<u64>, Verdict>>);
+struct Corners(Mutex<FxHashMap<Vec<u64>, Arc<OnceLock<Verdict>>>>);
 
 /// What deciding one box gave: a leaf, or two halves to decide.
 enum Decided {
@@ -294,13 +297,15 @@ fn no_corner_certified(
             .map(|(i, a)| if mask >> i & 1 == 1 { a.hi } else { a.lo })
             .collect();
         let key: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
-        let known = corners
-            .0
-            .lock()
-            .expect("no panics inside")
-            .get(&key)
-            .copied();
-        let verdict = known.unwrap_or_else(|| {
+        let slot = Arc::clone(
+            corners
+                .0
+                .lock()
+                .expect("no panics inside")
+                .entry(key)
+                .or_default(),
+        );
+        let verdict = *slot.get_or_init(|| {
             let mut p = problem.clone();
             for (a, &v) in b.axes.iter().zip(&values) {
                 a.parameter.set_in(&mut p, v);
@@ -308,19 +313,13 @@ fn no_corner_certified(
             let options = Options {
                 witness: WitnessPolicy::Never,
             };
-            let verdict = match analyse_with(&p, options) {
+            match analyse_with(&p, options) {
                 Ok(a) => {
                     *solved += a.programs_solved;
                     a.verdict
                 }
                 Err(_) => Verdict::Inconclusive,
-            };
-            corners
-                .0
-                .lock()
-                .expect("no panics inside")
-                .insert(key, verdict);
-            verdict
+            }
         });
         if verdict == Verdict::Certified {
             let at: Vec<String> = b

@@ -463,3 +463,20 @@ fn ranges_the_programs_cannot_take_are_refused_with_the_reason() {
         )],
     );
 }
+
+#[test]
+fn a_map_is_the_same_map_on_every_run() {
+    // Threads share the corners' analyses: who analyses a corner first must not show in the
+    // map (its count of programs solved, hence its digest).
+    let seed = load_problem("seed.toml", &[]);
+    let axes = vec![
+        axis("environment.obstacle_speed", 0.10, 0.30),
+        axis("controller.reaction_radius", 1.0, 1.6),
+    ];
+    let first = map(&seed, axes.clone(), 12);
+    for _ in 0..4 {
+        let again = map(&seed, axes.clone(), 12);
+        assert_eq!(again.programs_solved, first.programs_solved);
+        assert_eq!(again.digest, first.digest);
+    }
+}
