@@ -181,6 +181,8 @@ pub struct Decomposition {
     profile: Vec<RobotState<Exact>>,
     /// The profile's positions as small rationals (for loops that step through it).
     fast_positions: Vec<Rational>,
+    /// v_max·dt: how far each cruising step goes.
+    cruise_step: Exact,
     /// First step at whose start the robot cruises at v_max.
     pub cruise_from: usize,
     /// First brake step any piece can have: before it even the fastest obstacle is
@@ -272,6 +274,7 @@ impl Decomposition {
         let (profile, fast_positions) = drive_profile(&params);
         let mut d = Decomposition {
             fast_positions,
+            cruise_step: params.v_max.clone() * params.dt.clone(),
             cruise_stop: stopping(&params, params.v_max.clone()),
             cruise_from: profile.len() - 1,
             profile,
@@ -536,7 +539,18 @@ impl Decomposition {
 
     /// Position along the drive profile at step k's start.
     pub fn position(&self, k: usize) -> Exact {
-        self.drive(k).position
+        match self.profile.get(k) {
+            Some(s) => s.position.clone(),
+            None => {
+                self.profile[self.cruise_from].position.clone()
+                    + Exact::from(k - self.cruise_from) * &self.cruise_step
+            }
+        }
+    }
+
+    /// Speed along the drive profile at step k's start.
+    fn speed(&self, k: usize) -> &Exact {
+        self.profile.get(k).map_or(&self.params.v_max, |s| &s.speed)
     }
 
     /// Whether the robot can spend steps E..T−1 in the area without danger: the robot alone
@@ -546,7 +560,7 @@ impl Decomposition {
         let closed = self.position(t - 1 - l) - self.position(e - l);
         // (Over a box: possible at some point, the widest area with the least danger.)
         let p = &self.widest_area;
-        match danger_distance(p, &self.drive(t - 1).speed) {
+        match danger_distance(p, self.speed(t - 1)) {
             None => false,
             Some(d) => p.rho.clone() - closed > d,
         }
@@ -571,7 +585,7 @@ impl Decomposition {
 
     fn push_endings(&mut self, entry: Option<usize>, t: usize, merged: bool, endings: &[Ending]) {
         for &ending in endings {
-            if ending != Ending::PassThrough && self.drive(t).speed == Exact::ZERO {
+            if ending != Ending::PassThrough && *self.speed(t) == Exact::ZERO {
                 continue; // the robot never moves
             }
             if ending == Ending::WrongAssumption && t < self.params.L + 1 {
@@ -594,16 +608,11 @@ impl Decomposition {
     pub(crate) fn drive(&self, k: usize) -> RobotState<Exact> {
         match self.profile.get(k) {
             Some(s) => s.clone(),
-            None => {
-                let c = &self.profile[self.cruise_from];
-                let p = &self.params;
-                RobotState {
-                    position: c.position.clone()
-                        + Exact::from(k - self.cruise_from) * p.v_max.clone() * p.dt.clone(),
-                    speed: p.v_max.clone(),
-                    mode: Mode::Drive,
-                }
-            }
+            None => RobotState {
+                position: self.position(k),
+                speed: self.params.v_max.clone(),
+                mode: Mode::Drive,
+            },
         }
     }
 
@@ -854,7 +863,7 @@ impl Decomposition {
     /// d_coll at the drive profile's speed at step k (None for the `area` rule), affine in
     /// V_a and the buffer.
     fn danger(&self, s: &Params<ParamAffine>, k: usize) -> Option<ParamAffine> {
-        danger_distance(s, &ParamAffine::constant(self.drive(k).speed))
+        danger_distance(s, &ParamAffine::constant(self.speed(k).clone()))
     }
 
     /// The obstacle's fastest approach over steps 0..m for an early piece: speed W while
