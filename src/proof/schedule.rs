@@ -910,9 +910,31 @@ impl Decomposition {
         // In exact values: only where it covers enough matters here, not its slopes.
         let mut run = FastApproach::new(self, p);
         let covered = Rational::from_exact(&p.g0) - Rational::from_exact(need);
-        for j in 0..self.last_brake {
+        while run.j < self.last_brake {
+            let j = run.j;
             if j >= from && run.x <= covered {
                 return Some(j);
+            }
+            // Cruising, the approach moves by the same amount for a whole stretch: leap over
+            // the steps that cannot be the answer (before `from`, or still short of `need`).
+            if j >= self.cruise_from
+                && let Some((length, moved)) = run.stretch()
+            {
+                let short = if run.x <= covered {
+                    0
+                } else if moved > Rational::from_exact(&Exact::ZERO) {
+                    // Steps i with x − i·moved > covered: i < (x − covered)/moved.
+                    ceil_steps(&(run.x.clone() - covered.clone()), &moved).saturating_sub(1)
+                } else {
+                    usize::MAX
+                };
+                let leap = length
+                    .min(short.saturating_add(1).max(from.saturating_sub(j)))
+                    .min(self.last_brake - j);
+                if leap >= 2 {
+                    run.leap(leap, &moved);
+                    continue;
+                }
             }
             run.step();
         }
@@ -994,6 +1016,30 @@ impl<'d> FastApproach<'d> {
         }
     }
 
+    /// While cruising (the robot's steps all `cruise_step`): how many steps from here move
+    /// the obstacle by one same amount, and that amount — W·dt while each step ends outside
+    /// the area's inner edge, the slowest in-area speed for good once the edge is behind (the
+    /// robot only closes in, so it stays behind); None for the one step that lands on it.
+    fn stretch(&self) -> Option<(usize, Rational)> {
+        // The i-th step ends outside iff x − i·W·dt > next + i·cruise_step + edge.
+        let room = self.x.clone() - self.next.clone() - self.edge.clone();
+        let per_step = self.w_dt.clone() + self.cruise_step.clone();
+        if room > per_step {
+            return Some((ceil_steps(&room, &per_step) - 1, self.w_dt.clone()));
+        }
+        // Landing on the edge would take to_edge ≤ the slowest speed: no faster step is left.
+        let to_edge = room - self.cruise_step.clone();
+        (to_edge <= self.slow_dt).then(|| (usize::MAX, self.slow_dt.clone()))
+    }
+
+    /// Takes `steps` cruising steps of `moved` each (see [`FastApproach::stretch`]).
+    fn leap(&mut self, steps: usize, moved: &Rational) {
+        let n = Rational::from_exact(&Exact::from(steps));
+        self.j += steps;
+        self.next = self.next.clone() + n.clone() * self.cruise_step.clone();
+        self.x = self.x.clone() - n * moved.clone();
+    }
+
     /// Takes step j; returns how far the obstacle moved (w_j·dt).
     fn step(&mut self) -> Rational {
         self.j += 1;
@@ -1019,6 +1065,11 @@ impl<'d> FastApproach<'d> {
         self.x = self.x.clone() - moved.clone();
         moved
     }
+}
+
+/// ⌈a / b⌉ as a step count (a, b > 0; `usize::MAX` when it does not fit).
+fn ceil_steps(a: &Rational, b: &Rational) -> usize {
+    usize::try_from((a.clone() / b.clone()).to_exact().ceil()).unwrap_or(usize::MAX)
 }
 
 /// The numbers the fastest approach runs in: exact values (where it has covered enough) or
@@ -1112,6 +1163,10 @@ mod tests {
             (0.3, 1.4, 0.05, 0.0, 0.0, 3.0),
             (0.3, 2.5, 0.1, 0.2, 0.03, 4.0),
             (0.05, 1.0, 0.01, 0.1, 0.0, 1.5),
+            // Numbers whose stretches end off the step grid (the step that lands on the
+            // area's edge moves less than W·dt).
+            (0.137, 1.33, 0.05, 0.013, 0.007, 7.77),
+            (0.29, 2.11, 0.11, 0.0, 0.02, 9.13),
         ] {
             let mut pr = problem(0.2, 0.1, 0.05, 0.1);
             pr.environment.obstacle_speed = w;
@@ -1137,9 +1192,14 @@ mod tests {
             let (fast, fast_gap) = d.fastest_approach(d.last_brake);
             assert!(fast.iter().zip(&speeds).all(|(a, b)| *a == b.value));
             assert_eq!(fast_gap, gap.value);
-            // Covers reached outside the area, at its edge and deep inside it.
+            // Covers reached outside the area, at its edge and deep inside it; and exactly
+            // each step's cover, so that the search (which leaps over cruising stretches)
+            // must land on every step's boundary exactly.
             let mut needs = vec![Exact::ZERO, p.v_max.clone() * p.dt.clone()];
             needs.extend((1..20).map(|k| p.g0.clone() * Exact::from(k) / Exact::from(20)));
+            let tiny = Exact::ONE / Exact::from(1_000_000_000_000u64);
+            needs.extend(covered.iter().step_by(3).cloned());
+            needs.extend(covered.iter().map(|c| c.clone() + tiny.clone()));
             for need in needs {
                 for from in [0, 3, d.cruise_from, d.cruise_from + 7, d.last_brake] {
                     let scan = (from..d.last_brake).find(|&j| covered[j] >= need);
