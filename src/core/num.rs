@@ -101,6 +101,21 @@ pub fn exact_decimal(x: f64) -> Exact {
     let (int_part, frac_part) = digits.split_once('.').unwrap_or((digits, ""));
     let all_digits: String = format!("{int_part}{frac_part}");
     let scale = exponent - frac_part.len() as isize;
+    // The usual case — at most 17 digits, within 10^±38 — in machine words: problem files
+    // are read into exact numbers once per sweep cell.
+    if let Ok(n) = all_digits.parse::<u64>()
+        && let Ok(shift) = u32::try_from(scale.unsigned_abs())
+        && shift <= 38
+    {
+        let n = i128::from(n) * i128::from(sign);
+        let power = 10u128.pow(shift);
+        if scale < 0 {
+            return RBig::from_parts(IBig::from(n), dashu_int::UBig::from(power));
+        }
+        if let Some(whole) = i128::try_from(power).ok().and_then(|p| n.checked_mul(p)) {
+            return RBig::from(IBig::from(whole));
+        }
+    }
     let n: IBig = all_digits.parse::<IBig>().expect("digits") * IBig::from(sign);
     let ten = RBig::from(10);
     RBig::from(n) * ten.pow(scale)
@@ -150,6 +165,40 @@ mod tests {
         );
         assert_eq!(exact_decimal(1e20), RBig::from(10).pow(20));
         assert_eq!(exact_decimal(0.0), RBig::ZERO);
+    }
+
+    /// The machine-word path is the general one: every decimal the float prints as, times a
+    /// power of ten, read as big integers (the reference), for values from 1e-45 to 1e45 of
+    /// both signs and 1 to 17 significant digits.
+    #[test]
+    fn decimals_in_machine_words_are_the_general_reading() {
+        let reference = |x: f64| {
+            let text = format!("{x:e}");
+            let (mantissa, exponent) = text.split_once('e').expect("an exponent");
+            let (int_part, frac_part) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+            let digits: IBig = format!("{int_part}{frac_part}").parse().expect("digits");
+            let scale = exponent.parse::<isize>().expect("integer") - frac_part.len() as isize;
+            RBig::from(digits) * RBig::from(10).pow(scale)
+        };
+        let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+        for _ in 0..20_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let digits = 1 + (state % 17) as i32;
+            let mantissa = (state >> 8) as f64 / (1u64 << 56) as f64;
+            let exponent = ((state >> 40) % 91) as i32 - 45;
+            let x = format!(
+                "{:.*e}",
+                (digits - 1) as usize,
+                mantissa * 10f64.powi(exponent)
+            )
+            .parse::<f64>()
+            .expect("a float");
+            for v in [x, -x] {
+                assert_eq!(exact_decimal(v), reference(v), "{v:e}");
+            }
+        }
     }
 
     #[test]
