@@ -76,6 +76,8 @@
 //! and "seen > V_a" w > V_a − σ_w. Monotonicity, the entries and the shift are unchanged
 //! (docs/semantics.md §12).
 
+use std::sync::{Arc, Mutex};
+
 use serde::{Deserialize, Serialize};
 
 use crate::core::model::{Params, Problem};
@@ -178,9 +180,9 @@ pub struct Decomposition {
     pub params: Params<Exact>,
     /// Robot state at each step's start along the drive profile, up to the cruise onset;
     /// later states follow from it (see [`Decomposition::drive`]).
-    profile: Vec<RobotState<Exact>>,
+    profile: Arc<Vec<RobotState<Exact>>>,
     /// The profile's positions as small rationals (for loops that step through it).
-    fast_positions: Vec<Rational>,
+    fast_positions: Arc<Vec<Rational>>,
     /// v_max·dt: how far each cruising step goes.
     cruise_step: Exact,
     /// First step at whose start the robot cruises at v_max.
@@ -222,6 +224,47 @@ fn stopping(p: &Params<Exact>, v: Exact) -> (Exact, Exact) {
     let time = v.clone() / p.b_min.clone();
     let distance = v * time.clone() / Exact::from(2);
     (time, distance)
+}
+
+/// A drive profile: its states and their positions as small rationals.
+type Profile = (Arc<Vec<RobotState<Exact>>>, Arc<Vec<Rational>>);
+
+/// Profiles already stepped, by the numbers the drive depends on (v_max, a, dt, v0): a sweep
+/// or a region map asks for one robot's profile thousands of times (2,000 exact steps at
+/// 1 kHz). A few robots are kept; the list starts over when full.
+static PROFILES: Mutex<Vec<([Exact; 4], Profile)>> = Mutex::new(Vec::new());
+
+/// The longest profile [`PROFILES`] keeps (10,000 steps: v_max/a of 1 s at 0.1 ms).
+const MAX_SHARED_STEPS: usize = 10_000;
+
+/// The drive profile of `params`'s robot, stepped once per robot ([`PROFILES`]).
+fn shared_drive_profile(params: &Params<Exact>) -> Profile {
+    let key = [
+        params.v_max.clone(),
+        params.a.clone(),
+        params.dt.clone(),
+        params.v0.clone(),
+    ];
+    let known = PROFILES.lock().ok().and_then(|list| {
+        list.iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, profile)| profile.clone())
+    });
+    if let Some(profile) = known {
+        return profile;
+    }
+    let (states, positions) = drive_profile(params);
+    let profile = (Arc::new(states), Arc::new(positions));
+    // (A long profile is not kept past its use: its memory would outlive the analysis.)
+    if profile.0.len() <= MAX_SHARED_STEPS
+        && let Ok(mut list) = PROFILES.lock()
+    {
+        if list.len() >= 8 {
+            list.clear();
+        }
+        list.push((key, profile.clone()));
+    }
+    profile
 }
 
 /// The drive profile up to the cruise onset, through the step function (in [`Rational`]).
@@ -271,7 +314,7 @@ impl Decomposition {
         merge: bool,
         region: Option<ParamBox>,
     ) -> Self {
-        let (profile, fast_positions) = drive_profile(&params);
+        let (profile, fast_positions) = shared_drive_profile(&params);
         let mut d = Decomposition {
             fast_positions,
             cruise_step: params.v_max.clone() * params.dt.clone(),
@@ -1209,6 +1252,30 @@ mod tests {
                         "W {w}, rho {rho}, V_a {v_a}, noise {sigma_g}/{sigma_w}, from {from}"
                     );
                 }
+            }
+        }
+    }
+
+    /// Decompositions share drive profiles by robot, never across robots: interleaved robots
+    /// that differ in one number each (a, v_max, dt, v0) get their own profile.
+    #[test]
+    fn shared_drive_profiles_belong_to_their_robot() {
+        let robots = [
+            (0.2, 0.1, 0.1, None),
+            (0.2, 0.05, 0.1, None),
+            (0.3, 0.1, 0.1, None),
+            (0.2, 0.1, 0.05, None),
+            (0.2, 0.1, 0.1, Some(0.1)),
+        ];
+        for _ in 0..2 {
+            for (v, a, dt, v0) in robots {
+                let mut pr = problem(v, a, 0.05, dt);
+                pr.robot.initial_speed = v0;
+                let d = Decomposition::new(&pr);
+                let (states, positions) = drive_profile(&d.params);
+                assert_eq!(*d.profile, states, "robot {v} {a} {dt} {v0:?}");
+                assert!(d.fast_positions.iter().zip(&positions).all(|(x, y)| x == y));
+                assert_eq!(d.fast_positions.len(), positions.len());
             }
         }
     }
