@@ -1,8 +1,8 @@
 //! The problem's named parameters, and numbers that are affine in them.
 //!
-//! W, ρ, V_a, the buffer, the initial gap, the clearance, the noise bounds and d_det enter a piece's program only
-//! through right-hand sides, variable bounds and the objective's constant — never through
-//! its matrix. A [`ParamAffine`] carries such a number together with its exact partial
+//! W, ρ, V_a, the buffer, the initial gap, the clearance, the noise bounds and d_det enter a
+//! piece's program only through right-hand sides, variable bounds and the objective's
+//! constant — never through its matrix. A [`ParamAffine`] carries such a number together with its exact partial
 //! derivatives in those parameters, so that a bound proved by fixed dual multipliers is an
 //! exact affine function of them (`radius` reads its Newton slope from it; a region
 //! certificate minimises it over a box).

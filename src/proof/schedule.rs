@@ -1115,8 +1115,10 @@ fn ceil_steps(a: &Rational, b: &Rational) -> usize {
     usize::try_from((a.clone() / b.clone()).to_exact().ceil()).unwrap_or(usize::MAX)
 }
 
-/// The numbers the fastest approach runs in: exact values (where it has covered enough) or
-/// affine in the parameters (an early piece's box end, with its slopes).
+/// The numbers the area-respecting approach is computed in: exact values at a point (the
+/// slowest in-area speed, occlusion's lowest sighting gap) or affine in the parameters (an
+/// early piece's box end, with its slopes). Values along the whole approach go through
+/// [`FastApproach`] instead, in small rationals.
 pub(crate) trait Approach:
     Clone + PartialOrd + std::ops::Add<Output = Self> + std::ops::Sub<Output = Self>
 {
