@@ -1,16 +1,18 @@
 //! Benchmark: the certified map of the seed plane W ∈ [0.10, 0.30] m/s × ρ ∈ [1.0, 1.6] m
 //! (issue target: undecided ≤ 1% of the plane, ≤ 1 s on 2 cores), against a point sweep of
 //! the same resolution (one cell per smallest leaf's width and height) measured in the same
-//! run. Run with `cargo bench --bench region`.
+//! run; and the map of a scene's plane (the far obstacle's own W_1 against ρ in
+//! problems/scene-oncoming.toml) at depths 8 and 10. Run with `cargo bench --bench region`.
 
 use std::time::Instant;
 
 use rayon::prelude::*;
-use safereach::analysis::region_search::{RegionOptions, map_region};
+use safereach::analysis::region_search::{RegionOptions, map_region, map_scene_region};
 use safereach::analysis::{Options, Verdict, WitnessPolicy, analyse_with};
 use safereach::core::model::Problem;
 use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::parameter::Parameter;
+use safereach::core::scene::Scene;
 use safereach::proof::region_check::check_map;
 use safereach::proof::region_map::{LeafVerdict, box_at};
 
@@ -18,16 +20,8 @@ fn main() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let seed = Problem::load(&root.join("problems/seed.toml")).expect("the seed loads");
     let whole = ParamBox::new(vec![
-        Axis {
-            parameter: Parameter::ObstacleSpeed,
-            lo: 0.10,
-            hi: 0.30,
-        },
-        Axis {
-            parameter: Parameter::ReactionRadius,
-            lo: 1.0,
-            hi: 1.6,
-        },
+        Axis::new(Parameter::ObstacleSpeed, 0.10, 0.30),
+        Axis::new(Parameter::ReactionRadius, 1.0, 1.6),
     ])
     .expect("a valid box");
     for depth in [12, 14, 16] {
@@ -104,6 +98,41 @@ fn main() {
             sample.len(),
             certified,
             sweep / took
+        );
+    }
+    scene_plane(root);
+}
+
+/// The scene plane's maps: time, check, leaves, programs and areas.
+fn scene_plane(root: &std::path::Path) {
+    let scene = Scene::load(&root.join("problems/scene-oncoming.toml")).expect("the scene loads");
+    let whole = ParamBox::new(vec![
+        Axis {
+            obstacle: Some(1),
+            ..Axis::new(Parameter::ObstacleSpeed, 0.10, 0.30)
+        },
+        Axis::new(Parameter::ReactionRadius, 1.0, 1.6),
+    ])
+    .expect("a valid box");
+    for depth in [8, 10] {
+        let options = RegionOptions {
+            depth,
+            ..RegionOptions::default()
+        };
+        let start = Instant::now();
+        let map = map_scene_region(&scene, &whole, &options, &|_| {}).expect("maps");
+        let took = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        check_map(&map).expect("the map checks");
+        let checked = start.elapsed().as_secs_f64();
+        println!(
+            "scene-oncoming W_1 x rho, depth {depth}: {took:.2} s on {} threads, check {checked:.2} s; {} leaves, {} programs solved; area certified {:.2}%, refuted {:.2}%, undecided {:.2}%",
+            rayon::current_num_threads(),
+            map.leaves.len(),
+            map.programs_solved,
+            100.0 * map.coverage.certified,
+            100.0 * map.coverage.refuted,
+            100.0 * map.coverage.undecided,
         );
     }
 }

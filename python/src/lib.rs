@@ -9,12 +9,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
-use safereach::analysis::region_search::{RegionOptions, map_region};
+use safereach::analysis::region_search::{RegionOptions, map_region, map_scene_region};
 use safereach::analysis::scene_answer::SceneAnswer;
 use safereach::analysis::{self, radius};
 use safereach::core::model::Problem as LibProblem;
 use safereach::core::param_box::{Axis, ParamBox};
-use safereach::core::parameter::Parameter;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
 use safereach::monitor::bag::{BagOptions, BagReader, LaneAxis, SpeedSource};
@@ -408,7 +407,8 @@ impl RegionMap {
     }
 }
 
-/// Maps `problem` over the box `ranges` ({key: (lo, hi)}, e.g. {"environment.obstacle_speed":
+/// Maps `problem` (a problem or a scene) over the box `ranges` ({key: (lo, hi)}, e.g.
+/// {"environment.obstacle_speed": (0.1, 0.3)}, or in a scene {"obstacle.0.max_speed":
 /// (0.1, 0.3)}): boxes that do not certify are split down to `depth`. The GIL is released.
 #[pyfunction]
 #[pyo3(signature = (problem, ranges, depth = 12, min_width = 0.0))]
@@ -419,7 +419,6 @@ fn region(
     depth: u32,
     min_width: f64,
 ) -> PyResult<RegionMap> {
-    let p = single(problem, "region")?;
     let axes = ranges
         .iter()
         .map(|(key, span)| {
@@ -427,13 +426,7 @@ fn region(
             let (lo, hi): (f64, f64) = span.extract().map_err(|_| {
                 InputError::new_err(format!("{key}: expected a pair (lo, hi) of numbers"))
             })?;
-            let parameter = Parameter::from_key(&key).ok_or_else(|| {
-                InputError::new_err(format!(
-                    "{key} cannot be ranged: only parameters that enter the programs' right-hand \
-                     sides and bounds can"
-                ))
-            })?;
-            Ok(Axis { parameter, lo, hi })
+            Axis::for_key(&key, lo, hi).map_err(InputError::new_err)
         })
         .collect::<PyResult<Vec<_>>>()?;
     let whole = ParamBox::new(axes).map_err(|e| InputError::new_err(format!("ranges: {e}")))?;
@@ -447,8 +440,18 @@ fn region(
         min_width,
         ..RegionOptions::default()
     };
+    // An obstacle's own key maps a problem as the scene it is (as the CLI does).
+    let input = match &problem.input {
+        Input::Problem(p) if whole.axes.iter().any(|a| a.obstacle.is_some()) => {
+            Input::Scene(Scene::from_problem(p))
+        }
+        input => input.clone(),
+    };
     let map = py
-        .detach(move || map_region(&p, &whole, &options, &|_| {}))
+        .detach(move || match &input {
+            Input::Problem(p) => map_region(p, &whole, &options, &|_| {}),
+            Input::Scene(s) => map_scene_region(s, &whole, &options, &|_| {}),
+        })
         .map_err(|e| InputError::new_err(e.to_string()))?;
     let json = serde_json::to_value(&map).expect("maps serialise");
     Ok(RegionMap { map, json })

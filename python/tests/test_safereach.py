@@ -209,3 +209,24 @@ def test_region_maps_agree_with_certify_at_points_and_check_exactly():
     with pytest.raises(sr.InputError) as e:
         sr.region(p, {"robot.braking": (0.04, 0.05)})
     assert "robot.braking" in str(e.value)
+
+
+def test_scene_region_maps_range_an_obstacle_and_agree_at_leaf_centres():
+    path = str(ROOT / "problems" / "scene-oncoming.toml")
+    scene = sr.Problem.from_file(path)
+    ranges = {"obstacle.1.max_speed": (0.10, 0.25), "controller.reaction_radius": (1.3, 1.6)}
+    m = sr.region(scene, ranges, depth=5)
+    assert m.check() is False, "part of this box is refuted"
+    for leaf in m.leaves:
+        if leaf["verdict"] != "certified":
+            continue
+        point = sr.Problem.from_file(path)
+        (w0, w1) = leaf["box"]["obstacle.1.max_speed"]
+        (r0, r1) = leaf["box"]["controller.reaction_radius"]
+        point.set("obstacle.1.max_speed", (w0 + w1) / 2)
+        point.set("controller.reaction_radius", (r0 + r1) / 2)
+        assert sr.certify(point).verdict == "certified", leaf["box"]
+    assert any(leaf["verdict"] == "certified" for leaf in m.leaves)
+    with pytest.raises(sr.InputError) as e:
+        sr.region(scene, {"obstacle.3.position": (4.0, 6.0)})
+    assert "lane 1" in str(e.value)

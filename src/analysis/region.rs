@@ -3,16 +3,18 @@
 //! The box's pieces and programs come from
 //! [`Decomposition::for_box`](crate::proof::schedule::Decomposition::for_box), taken at the
 //! box's centre. Each piece's multipliers come from the parent box's proof of the same piece
-//! or from Clarabel at the centre (exact arithmetic, not the solver, is what costs here); the
-//! exact affine bound they prove is then minimised over the box
-//! ([`box_proof_value`]). A bound that does not clear the clearance may still belong to a
-//! piece whose strict system is empty (its closure holds only on a guard's boundary): the
-//! snapped Farkas multipliers of [`prove_strictly_empty`] are tried before giving up.
+//! or from Clarabel on the piece's lifted program, whose multipliers are the best any proof
+//! over the box can have ([`crate::analysis::region_lift`]); the exact affine bound they prove
+//! is then minimised over the box ([`box_proof_value`]). A bound that does not clear the
+//! clearance may still belong to a piece whose strict system is empty (its closure holds only
+//! on a guard's boundary): snapped Farkas multipliers of the lifted program are tried before
+//! giving up.
 
 use rustc_hash::FxHashMap;
 
 use crate::analysis::analyse::prove_strictly_empty;
 use crate::analysis::lp::{self, LpOutcome};
+use crate::analysis::region_lift::lifted;
 use crate::core::model::Problem;
 use crate::core::num::{Exact, f64_at_most};
 use crate::core::param_box::ParamBox;
@@ -22,8 +24,9 @@ use crate::proof::region_check::{box_proof_value, describe};
 use crate::proof::region_map::BoxProof;
 use crate::proof::schedule::{Decomposition, Piece};
 
-/// Proofs found for a box's pieces, handed to its halves to try before the solver.
-pub type Hints = FxHashMap<Piece, (ProofKind, Vec<f64>)>;
+/// Proofs found for a box's pieces (keyed by the obstacle in a scene), handed to its
+/// halves to try before the solver.
+pub type Hints = FxHashMap<(Option<usize>, Piece), (ProofKind, Vec<f64>)>;
 
 /// A box certified: every piece proved, s* above the clearance everywhere in it.
 #[derive(Clone, Debug)]
@@ -51,58 +54,63 @@ pub fn certify_box(
     solved: &mut usize,
 ) -> Result<BoxCertificate, NotCertified> {
     let dec = Decomposition::for_box(problem, b);
-    let clearance = ParamAffine::parameter(Parameter::Clearance, &dec.params);
-    let mut proofs = Vec::with_capacity(dec.pieces.len());
     let mut found = Hints::default();
-    let mut lower: Option<Exact> = None;
-    for piece in &dec.pieces {
-        let program = dec.program(piece);
-        let proved = prove_piece(
-            &dec,
-            b,
-            &program,
-            piece,
-            &clearance,
-            hints.get(piece),
-            solved,
-        );
-        match proved {
-            Ok((kind, z, bound)) => {
-                let least = bound.as_ref().map(|f| b.min_of(f, &dec.params));
-                if let Some(l) = &least
-                    && lower.as_ref().is_none_or(|x| l < x)
-                {
-                    lower = Some(l.clone());
-                }
-                found.insert(*piece, (kind.clone(), z.clone()));
-                proofs.push(BoxProof {
-                    piece: *piece,
-                    kind,
-                    multipliers: z,
-                    bound: least.as_ref().map(f64_at_most),
-                });
-            }
-            Err(reason) => {
-                return Err(NotCertified {
-                    reason: format!("{}: {reason}", describe(piece)),
-                    hints: found,
-                });
-            }
-        }
-    }
-    let start = ParamAffine::parameter(Parameter::InitialGap, &dec.params);
-    if proofs.iter().all(|p| p.kind == ProofKind::Infeasible)
-        && b.min_of(&(start.clone() - clearance), &dec.params) <= Exact::ZERO
-    {
-        return Err(NotCertified {
-            reason: "the obstacle may start within the clearance".into(),
+    match certify_obstacle(&dec, &dec.pieces, None, hints, &mut found, solved) {
+        Ok((proofs, lower_bound)) => Ok(BoxCertificate {
+            proofs,
+            lower_bound,
+        }),
+        Err(reason) => Err(NotCertified {
+            reason,
             hints: found,
+        }),
+    }
+}
+
+/// Proofs for `pieces` of one obstacle's box decomposition `dec` (tagged with `obstacle`
+/// in a scene), each clearing the clearance over the whole box, and the least lower bound
+/// they give (the least start when every piece is empty); else why not. Every proof found
+/// goes into `found`.
+pub(crate) fn certify_obstacle(
+    dec: &Decomposition,
+    pieces: &[Piece],
+    obstacle: Option<usize>,
+    hints: &Hints,
+    found: &mut Hints,
+    solved: &mut usize,
+) -> Result<(Vec<BoxProof>, Exact), String> {
+    let b = dec.region().expect("a box decomposition");
+    let clearance = ParamAffine::parameter(Parameter::Clearance, &dec.params);
+    let mut proofs = Vec::with_capacity(pieces.len());
+    let mut lower: Option<Exact> = None;
+    for piece in pieces {
+        let program = dec.program(piece);
+        let hint = hints.get(&(obstacle, *piece));
+        let (kind, z, bound) = prove_piece(dec, b, &program, piece, &clearance, hint, solved)
+            .map_err(|reason| format!("{}: {reason}", describe(piece)))?;
+        let least = bound.as_ref().map(|f| b.min_of(f, &dec.params));
+        if let Some(l) = &least
+            && lower.as_ref().is_none_or(|x| l < x)
+        {
+            lower = Some(l.clone());
+        }
+        found.insert((obstacle, *piece), (kind.clone(), z.clone()));
+        proofs.push(BoxProof {
+            obstacle,
+            piece: *piece,
+            kind,
+            multipliers: z,
+            bound: least.as_ref().map(f64_at_most),
         });
     }
-    Ok(BoxCertificate {
-        proofs,
-        lower_bound: lower.unwrap_or_else(|| b.min_of(&start, &dec.params)),
-    })
+    if let Some(lower) = lower {
+        return Ok((proofs, lower));
+    }
+    let start = ParamAffine::parameter(Parameter::InitialGap, &dec.params);
+    if b.min_of(&(start.clone() - clearance), &dec.params) <= Exact::ZERO {
+        return Err("the obstacle may start within the clearance".into());
+    }
+    Ok((proofs, b.min_of(&start, &dec.params)))
 }
 
 /// A proof of one piece over the box: its kind, multipliers and (for a bound) the affine
@@ -133,28 +141,35 @@ fn prove_piece(
     {
         return Ok((kind.clone(), z.clone(), value));
     }
+    // The lifted program (the ranged parameters as variables on the box, the clearance
+    // subtracted): its multipliers are the best any proof of this piece over the box can
+    // have, and its optimum is the least margin over the box (see `region_lift`).
+    let lift = lifted(program, b, &dec.params, clearance);
+    let rows = program.rows.len();
     *solved += 1;
-    let reason = match lp::solve(program, 0.0) {
+    let reason = match lp::solve(&lift, 0.0) {
         LpOutcome::Optimal { z, value, .. } if piece.has_objective() => {
-            // The affine bound at the centre is at most the optimum there: no need to
-            // evaluate it exactly when the optimum does not clear the clearance.
-            if value > clearance.value.to_f64().value()
-                && let Some(v) = holds(&ProofKind::Bound, &z)
+            // No multipliers clear the clearance everywhere when the optimum does not.
+            if value > 0.0
+                && let Some(v) = holds(&ProofKind::Bound, &z[..rows])
             {
-                return Ok((ProofKind::Bound, z, v));
+                return Ok((ProofKind::Bound, z[..rows].to_vec(), v));
             }
-            format!("its worst case at the centre is {value:.6} m, too close for the whole box")
+            format!(
+                "its worst case comes {:.6} m {} the clearance somewhere in the box",
+                value.abs(),
+                if value > 0.0 { "above" } else { "below" }
+            )
         }
-        LpOutcome::Optimal { .. } => "a robot that never brakes is possible at the centre".into(),
+        LpOutcome::Optimal { .. } => "a robot that never brakes is possible in the box".into(),
         LpOutcome::Infeasible { z } => {
-            if let Some(v) = holds(&ProofKind::Infeasible, &z) {
-                return Ok((ProofKind::Infeasible, z, v));
+            if let Some(v) = holds(&ProofKind::Infeasible, &z[..rows]) {
+                return Ok((ProofKind::Infeasible, z[..rows].to_vec(), v));
             }
-            "empty at the centre, but not provably so over the whole box".into()
+            "empty over the box, but not provably so".into()
         }
         LpOutcome::Failed { status } => {
             // Without the solver's multipliers, the cheap Farkas candidates.
-            let rows = program.rows.len();
             let mut candidates = vec![vec![1.0; rows]];
             if let Some(i) = program.infeasible_row() {
                 let mut z = vec![0.0; rows];
@@ -169,11 +184,11 @@ fn prove_piece(
             format!("the solver failed ({status})")
         }
     };
-    // The closure may hold only on a guard's boundary, which the semantics excludes.
-    if let Some((z, _)) = prove_strictly_empty(program, solved)
-        && let Some(v) = holds(&ProofKind::Infeasible, &z)
+    // The closure may be reached only on a guard's boundary, which the semantics excludes.
+    if let Some((z, _)) = prove_strictly_empty(&lift, solved)
+        && let Some(v) = holds(&ProofKind::Infeasible, &z[..rows])
     {
-        return Ok((ProofKind::Infeasible, z, v));
+        return Ok((ProofKind::Infeasible, z[..rows].to_vec(), v));
     }
     Err(reason)
 }

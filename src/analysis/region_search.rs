@@ -11,23 +11,21 @@
 //! naming that behaviour. The corners are a guard against a leaf straddling the boundary,
 //! not a claim: only the centre is checked.
 
-use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use rustc_hash::FxHashMap;
 
 use rayon::prelude::*;
 
-use crate::analysis::analyse::{AnalysisError, Options, WitnessPolicy, analyse_with};
-use crate::analysis::region::{Hints, certify_box};
+use crate::analysis::region::Hints;
+use crate::analysis::region_subject::{LeafRefutation, RegionSubject};
 use crate::core::budget::{Work, grouped};
 use crate::core::model::Problem;
 use crate::core::num::f64_at_most;
 use crate::core::param_box::ParamBox;
-use crate::proof::region_check::refusal;
+use crate::core::scene::Scene;
 use crate::proof::region_map::{
-    Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, path_letter,
-    volume_fraction,
+    Coverage, FORMAT, Leaf, LeafVerdict, RegionMap, bounds_of, path_letter, volume_fraction,
 };
 use crate::proof::verdict::Verdict;
 
@@ -92,7 +90,28 @@ pub fn map_region(
     options: &RegionOptions,
     on_decided: &(dyn Fn(f64) + Sync),
 ) -> Result<RegionMap, RegionError> {
-    if let Some(reason) = refusal(problem, whole) {
+    map_subject(problem, whole, options, on_decided)
+}
+
+/// Maps a (valid) `scene` over `whole`, whose axes may be shared parameters or one
+/// obstacle's own (`obstacle.<i>.max_speed`, `obstacle.<i>.position`); see
+/// [`map_region`].
+pub fn map_scene_region(
+    scene: &Scene,
+    whole: &ParamBox,
+    options: &RegionOptions,
+    on_decided: &(dyn Fn(f64) + Sync),
+) -> Result<RegionMap, RegionError> {
+    map_subject(scene, whole, options, on_decided)
+}
+
+fn map_subject<S: RegionSubject>(
+    subject: &S,
+    whole: &ParamBox,
+    options: &RegionOptions,
+    on_decided: &(dyn Fn(f64) + Sync),
+) -> Result<RegionMap, RegionError> {
+    if let Some(reason) = subject.refusal(whole) {
         return Err(RegionError::Refused(reason));
     }
     let mut level = vec![Task {
@@ -124,6 +143,7 @@ pub fn map_region(
                     lower_bound: None,
                     proofs: Vec::new(),
                     refutation: None,
+                    scene_refutation: None,
                     reason: Some(reason.clone()),
                 });
             }
@@ -132,7 +152,7 @@ pub fn map_region(
         boxes += level.len() as u64;
         let decided: Vec<Decided> = level
             .into_par_iter()
-            .map(|task| decide(problem, whole, task, options, &corners, on_decided))
+            .map(|task| decide(subject, whole, task, options, &corners, on_decided))
             .collect();
         level = Vec::new();
         for d in decided {
@@ -162,7 +182,8 @@ pub fn map_region(
     }
     let mut map = RegionMap {
         format: FORMAT.into(),
-        problem: problem.clone(),
+        problem: None,
+        scene: None,
         ranges: whole.axes.clone(),
         depth: options.depth,
         leaves,
@@ -170,13 +191,14 @@ pub fn map_region(
         programs_solved: solved,
         digest: String::new(),
     };
+    subject.record(&mut map);
     map.digest = map.compute_digest();
     Ok(map)
 }
 
 /// Decides one box: certified, refuted, split, or (at the depth limit) undecided.
-fn decide(
-    problem: &Problem,
+fn decide<S: RegionSubject>(
+    subject: &S,
     whole: &ParamBox,
     task: Task,
     options: &RegionOptions,
@@ -191,10 +213,11 @@ fn decide(
         lower_bound: None,
         proofs: Vec::new(),
         refutation: None,
+        scene_refutation: None,
         reason,
     };
     let share = volume_fraction(whole, &task.b);
-    let not_certified = match certify_box(problem, &task.b, &task.hints, &mut solved) {
+    let not_certified = match subject.certify_box(&task.b, &task.hints, &mut solved) {
         Ok(cert) => {
             on_decided(share);
             let mut l = leaf(LeafVerdict::Certified, None);
@@ -204,13 +227,16 @@ fn decide(
         }
         Err(nc) => nc,
     };
-    let refuted = no_corner_certified(problem, &task.b, corners, &mut solved)
-        .and_then(|()| refute_at(&task.b.center_problem(problem), &task.b, &mut solved));
+    let refuted = no_corner_certified(subject, &task.b, corners, &mut solved)
+        .and_then(|()| subject.refute_centre(&task.b, &mut solved));
     let note = match refuted {
         Ok(r) => {
             on_decided(share);
             let mut l = leaf(LeafVerdict::Refuted, None);
-            l.refutation = Some(r);
+            match r {
+                LeafRefutation::Problem(r) => l.refutation = Some(r),
+                LeafRefutation::Scene(r) => l.scene_refutation = Some(r),
+            }
             return Decided::Leaf(l, solved);
         }
         Err(note) => note,
@@ -249,42 +275,11 @@ fn split_axis(whole: &ParamBox, task: &Task, options: &RegionOptions) -> Option<
         .max_by(|&i, &j| relative(i).total_cmp(&relative(j)).then(j.cmp(&i)))
 }
 
-/// A colliding behaviour at `point` (a problem inside `b`), or a note on what the point is.
-fn refute_at(point: &Problem, b: &ParamBox, solved: &mut usize) -> Result<Refutation, String> {
-    let options = Options {
-        witness: WitnessPolicy::ToRefute,
-    };
-    let a = match analyse_with(point, options) {
-        Ok(a) => a,
-        Err(e) => {
-            return Err(format!(
-                "its centre could not be analysed ({})",
-                error_text(&e)
-            ));
-        }
-    };
-    *solved += a.programs_solved;
-    match (a.verdict, a.witness) {
-        (Verdict::Refuted, Some(w)) => Ok(Refutation {
-            point: b
-                .axes
-                .iter()
-                .map(|x| (x.parameter.key().to_string(), x.parameter.get_in(point)))
-                .collect::<BTreeMap<_, _>>(),
-            piece: w.piece,
-            shift: w.shift,
-            obstacle_speeds: w.obstacle_speeds.to_vec(),
-        }),
-        (Verdict::Certified, _) => Err("its centre is certified".into()),
-        _ => Err("its centre is inconclusive".into()),
-    }
-}
-
 /// Whether no corner of `b` certifies (a box that straddles the boundary has one that
 /// does), or a note naming one that does. (Only the verdict is needed: no witness is
 /// replayed at corners.)
-fn no_corner_certified(
-    problem: &Problem,
+fn no_corner_certified<S: RegionSubject>(
+    subject: &S,
     b: &ParamBox,
     corners: &Corners,
     solved: &mut usize,
@@ -306,27 +301,16 @@ fn no_corner_certified(
                 .or_default(),
         );
         let verdict = *slot.get_or_init(|| {
-            let mut p = problem.clone();
-            for (a, &v) in b.axes.iter().zip(&values) {
-                a.parameter.set_in(&mut p, v);
-            }
-            let options = Options {
-                witness: WitnessPolicy::Never,
-            };
-            match analyse_with(&p, options) {
-                Ok(a) => {
-                    *solved += a.programs_solved;
-                    a.verdict
-                }
-                Err(_) => Verdict::Inconclusive,
-            }
+            let (verdict, n) = subject.verdict_at(b, &values);
+            *solved += n;
+            verdict
         });
         if verdict == Verdict::Certified {
             let at: Vec<String> = b
                 .axes
                 .iter()
                 .zip(&values)
-                .map(|(a, v)| format!("{} = {v}", a.parameter.key()))
+                .map(|(a, v)| format!("{} = {v}", a.key()))
                 .collect();
             return Err(format!(
                 "its corner {} is {}",
@@ -336,8 +320,4 @@ fn no_corner_certified(
         }
     }
     Ok(())
-}
-
-fn error_text(e: &AnalysisError) -> String {
-    e.to_string()
 }

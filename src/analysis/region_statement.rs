@@ -118,11 +118,11 @@ pub fn region_statement(
     at.environment.obstacle_speed = speed;
     at.controller.reaction_radius = radius;
     let saturation = saturation_radius(&at);
-    let whole = ParamBox::new(vec![Axis {
-        parameter: Parameter::ReactionRadius,
-        lo: radius,
-        hi: radius.max(saturation),
-    }])
+    let whole = ParamBox::new(vec![Axis::new(
+        Parameter::ReactionRadius,
+        radius,
+        radius.max(saturation),
+    )])
     .map_err(RegionError::Refused)?;
     let options = RegionOptions {
         depth: STATEMENT_DEPTH,

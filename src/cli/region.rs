@@ -9,10 +9,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use safereach::core::budget::Work;
 
 use safereach::analysis::Verdict;
-use safereach::analysis::region_search::{RegionOptions, map_region};
+use safereach::analysis::region_search::{RegionOptions, map_region, map_scene_region};
 use safereach::analysis::report::region_plot;
 use safereach::core::param_box::{Axis, ParamBox};
-use safereach::core::parameter::Parameter;
+use safereach::core::scene::Scene;
 use safereach::core::show;
 use safereach::proof::region_check::{check_map, describe_box};
 use safereach::proof::region_map::{LeafVerdict, RegionMap};
@@ -24,12 +24,13 @@ use super::output::{Output, write_file};
 /// Arguments of `safereach region`.
 #[derive(clap::Args)]
 pub struct RegionArgs {
-    /// Problem file (TOML; one obstacle).
+    /// Problem or scene file (TOML).
     problem: PathBuf,
     /// A ranged parameter, `KEY=LO..HI` (repeatable): environment.obstacle_speed,
     /// controller.reaction_radius, controller.assumed_obstacle_speed, controller.buffer,
     /// environment.initial_gap, robot.clearance, sensing.gap_noise, sensing.speed_noise,
-    /// sensing.first_detection_gap.
+    /// sensing.first_detection_gap; in a scene the controller's keys, robot.clearance and
+    /// each obstacle's obstacle.<i>.max_speed and obstacle.<i>.position.
     #[arg(long = "range", value_name = "KEY=LO..HI", required = true)]
     ranges: Vec<String>,
     /// Override a key (repeatable).
@@ -58,20 +59,18 @@ pub struct RegionArgs {
 /// Runs `safereach region`: exit 0 when every leaf is certified (the whole box is), 1 when
 /// some leaf is refuted, 3 when some is undecided and none refuted.
 pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
-    let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
-        Input::Problem(p) => p,
-        Input::Scene(_) => bail!(
-            "{}: region certificates cover problems with one obstacle and one start; \
-             scenes (and ranged initial gaps: use --range environment.initial_gap=LO..HI) \
-             are not covered yet",
-            args.problem.display()
-        ),
-    };
     let axes = args
         .ranges
         .iter()
         .map(|r| parse_range(r))
         .collect::<Result<Vec<_>>>()?;
+    // An obstacle's own key maps a problem file as the scene it is.
+    let input = match input::problem_or_scene(&args.problem, &args.sets)? {
+        Input::Problem(p) if axes.iter().any(|a| a.obstacle.is_some()) => {
+            Input::Scene(Scene::from_problem(&p))
+        }
+        input => input,
+    };
     let whole = ParamBox::new(axes).map_err(|e| anyhow::anyhow!("--range: {e}"))?;
     if !(args.min_width.is_finite() && (0.0..1.0).contains(&args.min_width)) {
         bail!(
@@ -88,8 +87,11 @@ pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
     };
     let bar = progress();
     let on_decided = |share: f64| bar.inc((share * 1000.0).round() as u64);
-    let map = map_region(&problem, &whole, &options, &on_decided)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.problem.display()))?;
+    let map = match &input {
+        Input::Problem(problem) => map_region(problem, &whole, &options, &on_decided),
+        Input::Scene(scene) => map_scene_region(scene, &whole, &options, &on_decided),
+    }
+    .map_err(|e| anyhow::anyhow!("{}: {e}", args.problem.display()))?;
     bar.finish_and_clear();
     if let Some(path) = &args.out {
         // Compact: a deep map holds thousands of multipliers and witness speeds.
@@ -114,22 +116,15 @@ pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
     Ok(exit_of(&map))
 }
 
-/// `KEY=LO..HI`, the key one that region certificates range.
+/// `KEY=LO..HI`, the key one that region certificates range (in a scene, also an
+/// obstacle's `obstacle.<i>.max_speed` or `obstacle.<i>.position`).
 fn parse_range(text: &str) -> Result<Axis> {
     let flag = format!("--range {text}");
     let Some((key, span)) = text.split_once('=') else {
         bail!("{flag}: expected KEY=LO..HI, e.g. environment.obstacle_speed=0.10..0.20");
     };
     let key = key.trim();
-    let Some(parameter) = Parameter::from_key(key) else {
-        let known: Vec<&str> = Parameter::ALL.iter().map(|p| p.key()).collect();
-        bail!(
-            "{flag}: {key} cannot be ranged: only parameters that enter the programs' \
-             right-hand sides and bounds can ({}); the robot's own numbers (max_speed, \
-             acceleration, braking, control_period, latency) decide the schedule itself",
-            known.join(", ")
-        );
-    };
+    let axis = Axis::for_key(key, 0.0, 0.0).map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
     let Some((lo, hi)) = span.split_once("..") else {
         bail!("{flag}: {key}: expected LO..HI, e.g. {key}=0.10..0.20");
     };
@@ -143,7 +138,7 @@ fn parse_range(text: &str) -> Result<Axis> {
     if lo > hi {
         bail!("{flag}: {key}: the range is reversed (lower end first)");
     }
-    Ok(Axis { parameter, lo, hi })
+    Ok(Axis { lo, hi, ..axis })
 }
 
 fn progress() -> ProgressBar {
@@ -165,7 +160,7 @@ fn percent(x: f64) -> String {
 
 fn describe(out: &mut Output, map: &RegionMap, whole: &ParamBox) -> Result<()> {
     let count = |v: LeafVerdict| map.leaves.iter().filter(|l| l.verdict == v).count();
-    writeln!(out, "{} over {}", map.problem.name, describe_box(whole))?;
+    writeln!(out, "{} over {}", map.name(), describe_box(whole))?;
     if map.all_certified() {
         let least = map
             .leaves
@@ -183,7 +178,7 @@ fn describe(out: &mut Output, map: &RegionMap, whole: &ParamBox) -> Result<()> {
                 "leaves"
             },
             show::down(least, 6),
-            show::value(map.problem.robot.clearance)
+            show::value(map.clearance())
         )?;
     } else {
         writeln!(

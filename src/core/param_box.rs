@@ -10,9 +10,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::core::model::{Params, Problem};
+use crate::core::model::{Params, Position, Problem};
 use crate::core::num::{Exact, exact_decimal};
 use crate::core::parameter::{ParamAffine, Parameter};
+use crate::core::scene::Scene;
 
 /// One ranged parameter: every value in `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -24,9 +25,119 @@ pub struct Axis {
     pub lo: f64,
     /// Upper end (≥ lo).
     pub hi: f64,
+    /// In a scene, the obstacle (0-based index) whose own number this is: W_i
+    /// (`obstacle.<i>.max_speed`, `parameter` = obstacle_speed) or its start
+    /// (`obstacle.<i>.position`, `parameter` = initial_gap). Absent: a number every obstacle
+    /// shares (or a problem's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obstacle: Option<usize>,
 }
 
 impl Axis {
+    /// A problem's (or a scene's shared) parameter between two ends.
+    pub fn new(parameter: Parameter, lo: f64, hi: f64) -> Self {
+        Axis {
+            parameter,
+            lo,
+            hi,
+            obstacle: None,
+        }
+    }
+
+    /// The axis a range key names between `lo` and `hi`: a named parameter's key
+    /// (`controller.reaction_radius`) or, in a scene, an obstacle's own
+    /// (`obstacle.<i>.max_speed`, `obstacle.<i>.position`); the reason when the key cannot be
+    /// ranged, in the user's terms.
+    pub fn for_key(key: &str, lo: f64, hi: f64) -> Result<Axis, String> {
+        if let Some(rest) = key.strip_prefix("obstacle.") {
+            let (index, field) = rest.split_once('.').unwrap_or((rest, ""));
+            let Ok(i) = index.parse::<usize>() else {
+                return Err(format!(
+                    "{key}: expected obstacle.<index>.<key> with a 0-based index"
+                ));
+            };
+            let parameter = match field {
+                "max_speed" => Parameter::ObstacleSpeed,
+                "position" => Parameter::InitialGap,
+                _ => {
+                    return Err(format!(
+                        "{key}: an obstacle's rangeable keys are max_speed and position"
+                    ));
+                }
+            };
+            return Ok(Axis {
+                obstacle: Some(i),
+                ..Axis::new(parameter, lo, hi)
+            });
+        }
+        match Parameter::from_key(key) {
+            Some(parameter) => Ok(Axis::new(parameter, lo, hi)),
+            None => {
+                let known: Vec<&str> = Parameter::ALL.iter().map(|p| p.key()).collect();
+                Err(format!(
+                    "{key} cannot be ranged: only parameters that enter the programs' \
+                     right-hand sides and bounds can ({}, and in a scene \
+                     obstacle.<i>.max_speed and obstacle.<i>.position); the robot's own numbers \
+                     (max_speed, acceleration, braking, control_period, latency) decide the \
+                     schedule itself",
+                    known.join(", ")
+                ))
+            }
+        }
+    }
+
+    /// The key that sets it: the parameter's, or a scene obstacle's
+    /// (`obstacle.0.max_speed`, `obstacle.0.position`).
+    pub fn key(&self) -> String {
+        match (self.obstacle, self.parameter) {
+            (Some(i), Parameter::ObstacleSpeed) => format!("obstacle.{i}.max_speed"),
+            (Some(i), Parameter::InitialGap) => format!("obstacle.{i}.position"),
+            (Some(i), p) => format!("obstacle.{i}.{}", p.key()),
+            (None, p) => p.key().to_string(),
+        }
+    }
+
+    /// Sets it to `value` in a scene; the reason when a scene has no such number (an
+    /// obstacle past the last, or a key only problems have).
+    pub fn set_in_scene(&self, scene: &mut Scene, value: f64) -> Result<(), String> {
+        match (self.obstacle, self.parameter) {
+            (Some(i), p) => {
+                let Some(o) = scene.obstacles.get_mut(i) else {
+                    return Err(format!(
+                        "{}: the scene has {} obstacles (indices from 0)",
+                        self.key(),
+                        scene.obstacles.len()
+                    ));
+                };
+                match p {
+                    Parameter::ObstacleSpeed => o.max_speed = value,
+                    Parameter::InitialGap => o.position = Position::At(value),
+                    _ => return Err(format!("{}: not an obstacle's key", self.key())),
+                }
+            }
+            (None, Parameter::ReactionRadius) => scene.controller.reaction_radius = value,
+            (None, Parameter::AssumedObstacleSpeed) => {
+                scene.controller.assumed_obstacle_speed = value;
+            }
+            (None, Parameter::Buffer) => scene.controller.buffer = value,
+            (None, Parameter::Clearance) => scene.robot.clearance = value,
+            (None, Parameter::ObstacleSpeed | Parameter::InitialGap) => {
+                return Err(format!(
+                    "{}: a scene's obstacles each have their own (range \
+                     obstacle.<i>.max_speed or obstacle.<i>.position)",
+                    self.key()
+                ));
+            }
+            (None, _) => {
+                return Err(format!(
+                    "{}: scenes with [sensing] are not covered by region certificates",
+                    self.key()
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Exact lower end.
     pub fn lo_exact(&self) -> Exact {
         exact_decimal(self.lo)
@@ -61,29 +172,48 @@ impl ParamBox {
     pub fn new(axes: Vec<Axis>) -> Result<Self, String> {
         for (i, a) in axes.iter().enumerate() {
             if !(a.lo.is_finite() && a.hi.is_finite()) {
-                return Err(format!(
-                    "{}: the ends must be finite numbers",
-                    a.parameter.key()
-                ));
+                return Err(format!("{}: the ends must be finite numbers", a.key()));
             }
             if a.lo > a.hi {
                 return Err(format!(
                     "{}: the range {}..{} is reversed (lower end first)",
-                    a.parameter.key(),
+                    a.key(),
                     a.lo,
                     a.hi
                 ));
             }
-            if axes[..i].iter().any(|b| b.parameter == a.parameter) {
-                return Err(format!("{} is ranged twice", a.parameter.key()));
+            if axes[..i]
+                .iter()
+                .any(|b| (b.parameter, b.obstacle) == (a.parameter, a.obstacle))
+            {
+                return Err(format!("{} is ranged twice", a.key()));
             }
         }
         Ok(ParamBox { axes })
     }
 
-    /// The axis of `p`, if it is ranged.
+    /// The axis of `p`, if it is ranged (in a scene's box, a shared parameter's).
     pub fn axis(&self, p: Parameter) -> Option<&Axis> {
-        self.axes.iter().find(|a| a.parameter == p)
+        self.axes
+            .iter()
+            .find(|a| a.parameter == p && a.obstacle.is_none())
+    }
+
+    /// A scene box as it bears on obstacle `i`: its own axes (W_i, its start) as the
+    /// problem's, and the shared ones — less V_a for a static obstacle, whose danger rule
+    /// assumes speed 0 whatever V_a is.
+    pub fn for_obstacle(&self, i: usize, is_static: bool) -> ParamBox {
+        let axes = self
+            .axes
+            .iter()
+            .filter(|a| a.obstacle.is_none_or(|j| j == i))
+            .filter(|a| !(is_static && a.parameter == Parameter::AssumedObstacleSpeed))
+            .map(|a| Axis {
+                obstacle: None,
+                ..*a
+            })
+            .collect();
+        ParamBox { axes }
     }
 
     /// The problem's numbers at the box's centre: each axis at its [`ParamBox::middle`].
@@ -194,16 +324,8 @@ mod tests {
 
     fn seed_box() -> ParamBox {
         ParamBox::new(vec![
-            Axis {
-                parameter: Parameter::ObstacleSpeed,
-                lo: 0.1,
-                hi: 0.3,
-            },
-            Axis {
-                parameter: Parameter::ReactionRadius,
-                lo: 1.0,
-                hi: 1.6,
-            },
+            Axis::new(Parameter::ObstacleSpeed, 0.1, 0.3),
+            Axis::new(Parameter::ReactionRadius, 1.0, 1.6),
         ])
         .expect("a valid box")
     }
@@ -229,12 +351,8 @@ mod tests {
         let b = seed_box();
         assert_eq!(b.middle(0), 0.2);
         assert_eq!(b.middle(1), 1.3);
-        let narrow = ParamBox::new(vec![Axis {
-            parameter: Parameter::ObstacleSpeed,
-            lo: 0.1,
-            hi: 0.15,
-        }])
-        .expect("valid");
+        let narrow =
+            ParamBox::new(vec![Axis::new(Parameter::ObstacleSpeed, 0.1, 0.15)]).expect("valid");
         // 0.125 is the midpoint; 0.12 is shorter and in the middle third.
         assert_eq!(narrow.middle(0), 0.12);
         // Deep splits stay short: twenty cuts add far fewer than twenty digits.
@@ -264,22 +382,14 @@ mod tests {
         assert_eq!(high.axes[0].hi, 0.3);
         assert_eq!(low.axes[1], b.axes[1]);
         assert_eq!(exact_decimal(low.axes[0].hi), exact_decimal(0.2));
-        let point = ParamBox::new(vec![Axis {
-            parameter: Parameter::Buffer,
-            lo: 0.1,
-            hi: 0.1,
-        }])
-        .expect("a point is a box");
+        let point =
+            ParamBox::new(vec![Axis::new(Parameter::Buffer, 0.1, 0.1)]).expect("a point is a box");
         assert!(point.split(0).is_none());
     }
 
     #[test]
     fn malformed_boxes_are_refused_with_the_key() {
-        let axis = |lo, hi| Axis {
-            parameter: Parameter::ReactionRadius,
-            lo,
-            hi,
-        };
+        let axis = |lo, hi| Axis::new(Parameter::ReactionRadius, lo, hi);
         let err = ParamBox::new(vec![axis(1.6, 1.0)]).unwrap_err();
         assert!(err.contains("controller.reaction_radius") && err.contains("reversed"));
         let err = ParamBox::new(vec![axis(1.0, 1.6), axis(1.0, 1.2)]).unwrap_err();

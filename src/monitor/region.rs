@@ -24,7 +24,7 @@
 
 use super::check::Bounds;
 use super::{Monitor, MonitorError, Rule};
-use crate::core::param_box::ParamBox;
+use crate::core::param_box::{Axis, ParamBox};
 use crate::core::parameter::Parameter;
 use crate::proof::premise::premises;
 use crate::proof::region_check::check_map;
@@ -82,10 +82,38 @@ fn chosen_box(map: &RegionMap, leaf: Option<&str>) -> Result<ParamBox, MonitorEr
     }
     let mut b = map.whole();
     for a in &mut b.axes {
-        let [lo, hi] = found.bounds[a.parameter.key()];
+        let [lo, hi] = found.bounds[&a.key()];
         (a.lo, a.hi) = (lo, hi);
     }
     Ok(b)
+}
+
+/// The value axis `a` takes at the point the monitor checks against (see the module docs).
+fn chosen_value(a: &Axis, at: &RegionPoint) -> Result<f64, MonitorError> {
+    let named = at
+        .controller
+        .iter()
+        .find(|(p, _)| a.obstacle.is_none() && *p == a.parameter);
+    Ok(match (a.parameter, named) {
+        (_, Some((_, v))) => *v,
+        (
+            Parameter::ReactionRadius
+            | Parameter::Buffer
+            | Parameter::InitialGap
+            | Parameter::FirstDetectionGap,
+            _,
+        ) => a.lo,
+        (Parameter::AssumedObstacleSpeed, None) if a.lo < a.hi => {
+            return refuse(format!(
+                "the box ranges {} over [{}, {}]: name the value the robot's controller runs \
+                 with",
+                a.key(),
+                a.lo,
+                a.hi
+            ));
+        }
+        _ => a.hi,
+    })
 }
 
 impl Monitor {
@@ -120,30 +148,20 @@ impl Monitor {
                 ));
             }
         }
-        let mut problem = map.problem.clone();
+        if let Some(scene) = &map.scene {
+            let mut point = scene.clone();
+            for a in &b.axes {
+                a.set_in_scene(&mut point, chosen_value(a, at)?)
+                    .map_err(MonitorError::Region)?;
+            }
+            return Monitor::for_certified_scene(&point);
+        }
+        let Some(mapped) = &map.problem else {
+            return refuse("the map names neither a problem nor a scene".into());
+        };
+        let mut problem = mapped.clone();
         for a in &b.axes {
-            let named = at.controller.iter().find(|(p, _)| *p == a.parameter);
-            let value = match (a.parameter, named) {
-                (_, Some((_, v))) => *v,
-                (
-                    Parameter::ReactionRadius
-                    | Parameter::Buffer
-                    | Parameter::InitialGap
-                    | Parameter::FirstDetectionGap,
-                    _,
-                ) => a.lo,
-                (Parameter::AssumedObstacleSpeed, None) if a.lo < a.hi => {
-                    return refuse(format!(
-                        "the box ranges {} over [{}, {}]: name the value the robot's \
-                         controller runs with",
-                        a.parameter.key(),
-                        a.lo,
-                        a.hi
-                    ));
-                }
-                _ => a.hi,
-            };
-            a.parameter.set_in(&mut problem, value);
+            a.parameter.set_in(&mut problem, chosen_value(a, at)?);
         }
         let bounds = Bounds::from_premises(&premises(&problem))?;
         Ok(Self::with_bounds(

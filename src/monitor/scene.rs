@@ -16,7 +16,7 @@ use crate::core::scene::Scene;
 use crate::proof::certificate_file::CertificateFile;
 use crate::proof::check::CheckReport;
 use crate::proof::premise::Premise;
-use crate::proof::scene_certificate::SceneCertificate;
+use crate::proof::scene_certificate::{SceneCertificate, scene_premises};
 use crate::proof::scene_check::check_scene;
 use crate::proof::search_certificate::SearchCertificate;
 use crate::proof::search_check::check_search;
@@ -150,6 +150,18 @@ impl Monitor {
         )
     }
 
+    /// A monitor for a scene proved certified by other means (a point of a certified box
+    /// of a scene region map): its premises are the scene's own ([`scene_premises`]).
+    pub(crate) fn for_certified_scene(scene: &Scene) -> Result<Monitor, MonitorError> {
+        Self::build_certified(
+            &scene_premises(scene),
+            scene,
+            scene.robot.clearance,
+            super::DEFAULT_MAX_OBSTACLES,
+            0,
+        )
+    }
+
     fn build_from(
         report: CheckReport,
         premises: &[Premise],
@@ -159,6 +171,16 @@ impl Monitor {
         reserve: usize,
     ) -> Result<Monitor, MonitorError> {
         require_certified(report.verdict)?;
+        Self::build_certified(premises, scene, clearance, max_obstacles, reserve)
+    }
+
+    fn build_certified(
+        premises: &[Premise],
+        scene: &Scene,
+        clearance: f64,
+        max_obstacles: u32,
+        reserve: usize,
+    ) -> Result<Monitor, MonitorError> {
         let bounds = Bounds::from_premises(premises)?;
         if !(clearance.is_finite() && clearance >= 0.0) {
             return Err(MonitorError::BadBound {

@@ -16,6 +16,8 @@ pub mod region_map;
 pub mod region_schedule;
 pub mod scene_certificate;
 pub mod scene_check;
+pub mod scene_region_check;
+pub mod scene_region_schedule;
 pub mod scene_schedule;
 pub mod scene_search;
 pub mod schedule;

@@ -17,12 +17,16 @@ use crate::core::model::Problem;
 use crate::core::num::{Exact, f64_at_most};
 use crate::core::param_box::ParamBox;
 use crate::core::parameter::{ParamAffine, Parameter};
+use crate::core::scene::Scene;
 use crate::core::simulate;
 use crate::proof::check::{Invalid, shown};
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::region_map::{
     BoxProof, Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, box_at,
     path_step, volume_fraction,
+};
+use crate::proof::scene_region_check::{
+    check_scene_refutation, check_stated_lower, scene_box_margin, scene_refusal,
 };
 use crate::proof::schedule::{Decomposition, Piece};
 use crate::proof::verdict::aim;
@@ -45,8 +49,9 @@ fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
     Err(Invalid(msg.into()))
 }
 
-/// Why region certificates do not cover `problem` over `whole` (None: they do).
-pub fn refusal(problem: &Problem, whole: &ParamBox) -> Option<String> {
+/// Why `whole` is no box a map can have, whatever it maps (None: it can be): no axis, too
+/// many, or a malformed one.
+pub(crate) fn shape_refusal(whole: &ParamBox) -> Option<String> {
     if whole.axes.is_empty() {
         return Some("no parameter is ranged".into());
     }
@@ -55,8 +60,20 @@ pub fn refusal(problem: &Problem, whole: &ParamBox) -> Option<String> {
             "at most {MAX_AXES} parameters can be ranged at once"
         ));
     }
-    if let Err(reason) = ParamBox::new(whole.axes.clone()) {
+    ParamBox::new(whole.axes.clone()).err()
+}
+
+/// Why region certificates do not cover `problem` over `whole` (None: they do).
+pub fn refusal(problem: &Problem, whole: &ParamBox) -> Option<String> {
+    if let Some(reason) = shape_refusal(whole) {
         return Some(reason);
+    }
+    if let Some(a) = whole.axes.iter().find(|a| a.obstacle.is_some()) {
+        return Some(format!(
+            "{}: a problem has one obstacle; range environment.obstacle_speed or \
+             environment.initial_gap (or map the problem as a scene)",
+            a.key()
+        ));
     }
     if problem.environment.initial_gap.is_range() && whole.axis(Parameter::InitialGap).is_none() {
         return Some(
@@ -104,11 +121,25 @@ pub fn check_map(map: &RegionMap) -> Result<MapReport, Invalid> {
     if map.compute_digest() != map.digest {
         return invalid("digest mismatch: the map was edited after it was written");
     }
-    map.problem
-        .validate("map problem")
-        .map_err(|e| Invalid(format!("the map's problem is invalid: {e}")))?;
+    let subject = match (&map.problem, &map.scene) {
+        (Some(p), None) => {
+            p.validate("map problem")
+                .map_err(|e| Invalid(format!("the map's problem is invalid: {e}")))?;
+            Mapped::Problem(p)
+        }
+        (None, Some(s)) => {
+            s.validate("map scene")
+                .map_err(|e| Invalid(format!("the map's scene is invalid: {e}")))?;
+            Mapped::Scene(s)
+        }
+        _ => return invalid("a map names exactly one of a problem and a scene"),
+    };
     let whole = map.whole();
-    if let Some(reason) = refusal(&map.problem, &whole) {
+    let refused = match subject {
+        Mapped::Problem(p) => refusal(p, &whole),
+        Mapped::Scene(s) => scene_refusal(s, &whole),
+    };
+    if let Some(reason) = refused {
         return invalid(format!(
             "the map's box is not one region certificates cover: {reason}"
         ));
@@ -125,7 +156,7 @@ pub fn check_map(map: &RegionMap) -> Result<MapReport, Invalid> {
                 leaf.path
             ));
         }
-        check_leaf(&map.problem, &b, leaf)
+        check_leaf(subject, &b, leaf)
             .map_err(|Invalid(e)| Invalid(format!("leaf {:?}: {e}", leaf.path)))?;
         let share = volume_fraction(&whole, &b);
         match leaf.verdict {
@@ -198,38 +229,45 @@ fn check_partition(leaves: &[Leaf], depth: u32) -> Result<(), Invalid> {
     covers(&paths, 0).map_err(Invalid)
 }
 
+/// What a map is of.
+#[derive(Clone, Copy)]
+enum Mapped<'a> {
+    Problem(&'a Problem),
+    Scene(&'a Scene),
+}
+
 /// One leaf's evidence.
-fn check_leaf(problem: &Problem, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid> {
+fn check_leaf(subject: Mapped, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid> {
+    let refuted = leaf.refutation.is_some() || leaf.scene_refutation.is_some();
     match leaf.verdict {
         LeafVerdict::Certified => {
-            if leaf.refutation.is_some() {
+            if refuted {
                 return invalid("a certified leaf carries a refutation");
             }
-            let dec = Decomposition::for_box(problem, b);
-            let (margin, lower) = box_margin(&dec, &leaf.proofs)?;
+            let (margin, lower) = match subject {
+                Mapped::Problem(p) => {
+                    let dec = Decomposition::for_box(p, b);
+                    box_margin(&dec, &dec.pieces, &leaf.proofs, None)?
+                }
+                Mapped::Scene(s) => scene_box_margin(s, b, &leaf.proofs)?,
+            };
             if margin <= Exact::ZERO {
                 return invalid("the proofs do not keep s* above the clearance everywhere");
             }
-            if leaf.lower_bound != Some(f64_at_most(&lower)) {
-                return invalid(format!(
-                    "stated lower bound {}, the proofs give {}",
-                    shown(leaf.lower_bound),
-                    f64_at_most(&lower)
-                ));
-            }
-            Ok(())
+            check_stated_lower(leaf.lower_bound, &lower)
         }
         LeafVerdict::Refuted => {
-            let Some(r) = &leaf.refutation else {
-                return invalid("a refuted leaf names no colliding point");
-            };
             if !leaf.proofs.is_empty() || leaf.lower_bound.is_some() {
                 return invalid("a refuted leaf carries proofs");
             }
-            check_refutation(problem, b, r)
+            match (subject, &leaf.refutation, &leaf.scene_refutation) {
+                (Mapped::Problem(p), Some(r), None) => check_refutation(p, b, r),
+                (Mapped::Scene(s), None, Some(r)) => check_scene_refutation(s, b, r),
+                _ => invalid("a refuted leaf names no colliding point of what the map is of"),
+            }
         }
         LeafVerdict::Undecided => {
-            if !leaf.proofs.is_empty() || leaf.refutation.is_some() || leaf.lower_bound.is_some() {
+            if !leaf.proofs.is_empty() || refuted || leaf.lower_bound.is_some() {
                 return invalid("an undecided leaf carries evidence for a verdict");
             }
             Ok(())
@@ -238,21 +276,34 @@ fn check_leaf(problem: &Problem, b: &ParamBox, leaf: &Leaf) -> Result<(), Invali
 }
 
 /// The least margin s* − clearance over the box that the proofs establish, and the least
-/// lower bound on s*; an error when a proof is malformed, for another piece, or does not
-/// prove what it says. Proofs must list the decomposition's pieces in order.
-pub fn box_margin(dec: &Decomposition, proofs: &[BoxProof]) -> Result<(Exact, Exact), Invalid> {
-    if proofs.len() != dec.pieces.len() {
+/// lower bound on s*; an error when a proof is malformed, for another piece or obstacle,
+/// or does not prove what it says. Proofs must list `pieces` (of the box decomposition
+/// `dec`, of scene obstacle `obstacle` in a scene) in order.
+pub fn box_margin(
+    dec: &Decomposition,
+    pieces: &[Piece],
+    proofs: &[BoxProof],
+    obstacle: Option<usize>,
+) -> Result<(Exact, Exact), Invalid> {
+    if proofs.len() != pieces.len() {
         return invalid(format!(
             "the box has {} pieces; the leaf lists {} proofs",
-            dec.pieces.len(),
+            pieces.len(),
             proofs.len()
+        ));
+    }
+    if let Some(p) = proofs.iter().find(|p| p.obstacle != obstacle) {
+        return invalid(format!(
+            "a proof is tagged with obstacle {}, expected {}",
+            shown_index(p.obstacle),
+            shown_index(obstacle)
         ));
     }
     let b = dec.region().expect("a box decomposition");
     let clearance = ParamAffine::parameter(Parameter::Clearance, &dec.params);
     let mut margin: Option<Exact> = None;
     let mut lower: Option<Exact> = None;
-    for (i, (proof, piece)) in proofs.iter().zip(&dec.pieces).enumerate() {
+    for (i, (proof, piece)) in proofs.iter().zip(pieces).enumerate() {
         if proof.piece != *piece {
             return invalid(format!(
                 "proof {i} is for {}, but piece {i} is {}",
@@ -344,17 +395,18 @@ pub fn box_proof_value(
 
 /// A refutation: the point lies in the box and the behaviour collides there, exactly.
 fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(), Invalid> {
-    let keys: Vec<&str> = b.axes.iter().map(|a| a.parameter.key()).collect();
+    let keys: Vec<String> = b.axes.iter().map(|a| a.key()).collect();
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
     if r.point.keys().map(String::as_str).ne(sorted(&keys)) {
         return invalid("the refuted point does not give exactly the ranged keys");
     }
     let mut at = problem.clone();
     for a in &b.axes {
-        let v = r.point[a.parameter.key()];
+        let v = r.point[&a.key()];
         if !(a.lo <= v && v <= a.hi) {
             return invalid(format!(
                 "the refuted point's {} = {v} lies outside the leaf",
-                a.parameter.key()
+                a.key()
             ));
         }
         a.parameter.set_in(&mut at, v);
@@ -378,6 +430,10 @@ fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(
         return invalid("the behaviour does not collide at the refuted point");
     }
     Ok(())
+}
+
+fn shown_index(i: Option<usize>) -> String {
+    i.map_or_else(|| "none".into(), |i| i.to_string())
 }
 
 fn sorted<'a>(keys: &[&'a str]) -> impl Iterator<Item = &'a str> {
@@ -411,7 +467,7 @@ pub fn describe(p: &Piece) -> String {
 pub fn describe_box(b: &ParamBox) -> String {
     b.axes
         .iter()
-        .map(|a| format!("{} = {}..{}", a.parameter.key(), a.lo, a.hi))
+        .map(|a| format!("{} = {}..{}", a.key(), a.lo, a.hi))
         .collect::<Vec<_>>()
         .join(", ")
 }

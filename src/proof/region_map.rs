@@ -18,6 +18,7 @@ use sha2::{Digest, Sha256};
 
 use crate::core::model::Problem;
 use crate::core::param_box::{Axis, ParamBox};
+use crate::core::scene::Scene;
 use crate::proof::program::ProofKind;
 use crate::proof::schedule::Piece;
 
@@ -53,6 +54,9 @@ impl LeafVerdict {
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct BoxProof {
+    /// In a scene map, the obstacle (scene index) the piece is of.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obstacle: Option<usize>,
     /// The piece.
     pub piece: Piece,
     /// A lower bound on the piece's separation, or its emptiness.
@@ -79,6 +83,19 @@ pub struct Refutation {
     pub obstacle_speeds: Vec<f64>,
 }
 
+/// A colliding behaviour at one point of a scene map's leaf.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(deny_unknown_fields)]
+pub struct SceneRefutation {
+    /// The point: each ranged key's value.
+    pub point: BTreeMap<String, f64>,
+    /// Scene index of the obstacle the robot collides with.
+    pub obstacle: usize,
+    /// Speeds per obstacle (scene order) per period, up to the collision.
+    pub obstacle_speeds: Vec<Vec<f64>>,
+}
+
 /// One leaf of the map.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -102,6 +119,9 @@ pub struct Leaf {
     /// Refuted: the colliding point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refutation: Option<Refutation>,
+    /// Refuted, in a scene map: the colliding point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_refutation: Option<SceneRefutation>,
     /// Undecided (or a remark): why.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
@@ -128,8 +148,13 @@ pub struct Coverage {
 pub struct RegionMap {
     /// Always [`FORMAT`].
     pub format: String,
-    /// The problem; its values of the ranged keys are replaced by the box.
-    pub problem: Problem,
+    /// The problem mapped (a problem map); its values of the ranged keys are replaced by
+    /// the box.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub problem: Option<Problem>,
+    /// The scene mapped (a scene map, instead of `problem`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<Scene>,
     /// The whole box, axes in the order given.
     pub ranges: Vec<Axis>,
     /// Most splits on the way to a leaf the search allowed.
@@ -158,6 +183,24 @@ impl RegionMap {
     pub fn whole(&self) -> ParamBox {
         ParamBox {
             axes: self.ranges.clone(),
+        }
+    }
+
+    /// The mapped problem's or scene's name.
+    pub fn name(&self) -> &str {
+        match (&self.problem, &self.scene) {
+            (Some(p), _) => &p.name,
+            (None, Some(s)) => &s.name,
+            (None, None) => "",
+        }
+    }
+
+    /// The clearance (m) of the mapped problem or scene, at the map's base values.
+    pub fn clearance(&self) -> f64 {
+        match (&self.problem, &self.scene) {
+            (Some(p), _) => p.robot.clearance,
+            (None, Some(s)) => s.robot.clearance,
+            (None, None) => 0.0,
         }
     }
 
@@ -203,10 +246,7 @@ pub fn path_letter(axis: usize, upper: bool) -> char {
 
 /// A box's ends keyed by parameter key (a leaf's `box`).
 pub fn bounds_of(b: &ParamBox) -> BTreeMap<String, [f64; 2]> {
-    b.axes
-        .iter()
-        .map(|a| (a.parameter.key().to_string(), [a.lo, a.hi]))
-        .collect()
+    b.axes.iter().map(|a| (a.key(), [a.lo, a.hi])).collect()
 }
 
 /// The fraction of `whole`'s volume that `part` takes, over the axes of `whole` with width.

@@ -36,6 +36,7 @@
 
 use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar};
+use crate::core::param_box::ParamBox;
 use crate::core::rational::Rational;
 use crate::core::scene::{Position, Scene};
 use crate::core::simulate;
@@ -125,12 +126,26 @@ impl SceneDecomposition {
         let lane: Vec<usize> = scene.in_lane(ROBOT_LANE).collect();
         let params: Vec<Params<Exact>> = lane.iter().map(|&i| scene.obstacle_params(i)).collect();
         let quiet: Vec<Option<usize>> = params.iter().map(quiet_until).collect();
+        let lane = lane.into_iter().zip(params).map(|(i, p)| (i, p, None));
+        Ok(Self::compose(scene, lane.collect(), quiet))
+    }
+
+    /// The pieces of the robot's lane's obstacles — each `(scene index, numbers, box)`,
+    /// the numbers a box's centre when it has one — given each one's quiet step z.
+    pub(crate) fn compose(
+        scene: &Scene,
+        lane: Vec<(usize, Params<Exact>, Option<ParamBox>)>,
+        quiet: Vec<Option<usize>>,
+    ) -> Self {
         let goal_step = scene.goal.map(|g| goal_step(&scene.robot_params(), g));
+        let single = lane.len() == 1;
         let obstacles = lane
-            .iter()
+            .into_iter()
             .enumerate()
-            .map(|(a, &i)| {
-                let others = (0..lane.len()).filter(|&b| b != a).filter_map(|b| quiet[b]);
+            .map(|(a, (i, params, region))| {
+                let others = (0..quiet.len())
+                    .filter(|&b| b != a)
+                    .filter_map(|b| quiet[b]);
                 let limit = others.chain(goal_step).min();
                 ObstacleSchedule {
                     obstacle: i,
@@ -138,19 +153,15 @@ impl SceneDecomposition {
                     limit,
                     // A merged piece stands for many brake steps; another obstacle's
                     // bystander steps need each firing step on its own.
-                    decomposition: Decomposition::from_params_until(
-                        params[a].clone(),
-                        limit,
-                        lane.len() == 1,
-                    ),
+                    decomposition: Decomposition::build(params, limit, single, region),
                 }
             })
             .collect();
-        Ok(SceneDecomposition {
+        SceneDecomposition {
             scene: scene.clone(),
             goal_step,
             obstacles,
-        })
+        }
     }
 
     /// The steps at which obstacle `a` (index into `obstacles`) may be a bystander, each
@@ -235,7 +246,7 @@ fn step_entry(steps: &mut Vec<BystanderStep>, step: usize) -> &mut BystanderStep
 
 /// z for one obstacle: its speed-0 behaviour run through the step function until the robot
 /// brakes (None: it passes through unbraked).
-fn quiet_until(params: &Params<Exact>) -> Option<usize> {
+pub(crate) fn quiet_until(params: &Params<Exact>) -> Option<usize> {
     let p: Params<Rational> = params.map(Rational::from_exact);
     let steps = simulate::horizon(&params.map(|x| x.to_f64().value()));
     // Run on past a collision: with latency or a clearance the gap can reach the clearance

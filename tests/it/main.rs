@@ -40,6 +40,7 @@ mod scene_analysis;
 mod scene_cli;
 mod scene_explore;
 mod scene_input;
+mod scene_region;
 mod scene_search;
 mod scene_sensing;
 mod scene_uppaal;

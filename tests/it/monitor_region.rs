@@ -25,7 +25,7 @@ use crate::common::tmp;
 fn map(problem: &Problem, axes: &[(Parameter, f64, f64)], depth: u32) -> RegionMap {
     let axes = axes
         .iter()
-        .map(|&(parameter, lo, hi)| Axis { parameter, lo, hi })
+        .map(|&(parameter, lo, hi)| Axis::new(parameter, lo, hi))
         .collect();
     let options = RegionOptions {
         depth,

@@ -850,3 +850,65 @@ fn the_command_line_monitors_scene_certificates() {
     );
     assert_eq!(r.stdout, "");
 }
+
+// ------------------------------------------------------------------------------------------
+// Scene region maps
+// ------------------------------------------------------------------------------------------
+
+/// A certified scene map is monitored as the scene at its least demanding corner (each
+/// obstacle's W_i and the clearance at their upper ends, ρ and the buffer and each start at
+/// their lower), held against that corner's own certificate, which the scene analyser proves
+/// independently: the same events on runs inside and beyond the box; the runs of the box's
+/// points hold; and the box covers more than a point inside it.
+#[test]
+fn a_certified_scene_map_is_monitored_as_its_least_demanding_corner() {
+    use safereach::analysis::region_search::{RegionOptions, map_scene_region};
+    use safereach::core::param_box::{Axis, ParamBox};
+    use safereach::core::parameter::Parameter;
+    use safereach::monitor::RegionPoint;
+
+    let scene = oncoming();
+    let second = Axis {
+        obstacle: Some(1),
+        ..Axis::new(Parameter::ObstacleSpeed, 0.1, 0.2)
+    };
+    let rho = Axis::new(Parameter::ReactionRadius, 1.4, 1.6);
+    let whole = ParamBox::new(vec![second, rho]).unwrap();
+    let options = RegionOptions {
+        depth: 4,
+        ..RegionOptions::default()
+    };
+    let m = map_scene_region(&scene, &whole, &options, &|_| {}).expect("mappable");
+    assert!(m.all_certified(), "the box certifies whole");
+    let by_map = Monitor::for_region(&m, &RegionPoint::default()).expect("monitorable");
+    let at = |w: f64, r: f64| {
+        let mut s = with(&scene, "second", |o| o.max_speed = w);
+        s.controller.reaction_radius = r;
+        s
+    };
+    let corner = monitor(&certified(&at(0.2, 1.4)));
+    let mut raised = 0;
+    for (w, r) in [(0.12, 1.4), (0.2, 1.4), (0.2, 1.6), (0.25, 1.4), (0.3, 1.5)] {
+        let point = at(w, r);
+        for i in 0..6 {
+            let text = scene_trace_csv(&random_run(&point, i));
+            let a = text_events(&mut by_map.clone(), &text, Some(Format::Csv));
+            let b = text_events(&mut corner.clone(), &text, Some(Format::Csv));
+            assert_eq!(a, b, "W_1 = {w}, ρ = {r}, run {i}");
+            if w <= 0.2 {
+                assert!(
+                    a.is_empty(),
+                    "a certified point's run holds: W_1 = {w}, run {i}"
+                );
+            }
+            raised += usize::from(!a.is_empty());
+        }
+    }
+    assert!(raised > 0, "runs beyond the box are flagged");
+    // "second" at W_1 = 0.2 throughout passes the map's monitor, not the certificate of a
+    // point of the box with W_1 = 0.15.
+    let slower = monitor(&certified(&at(0.15, 1.4)));
+    let fast = scene_trace_csv(&at_full_speed(&at(0.2, 1.4)));
+    assert!(!text_events(&mut slower.clone(), &fast, Some(Format::Csv)).is_empty());
+    assert!(text_events(&mut by_map.clone(), &fast, Some(Format::Csv)).is_empty());
+}

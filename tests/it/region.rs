@@ -17,15 +17,13 @@ use safereach::proof::region_check::check_map;
 use safereach::proof::region_map::{LeafVerdict, RegionMap};
 
 use crate::common::cli::{safereach, seed_box_region, stdout};
+use crate::common::forgery::{halve_largest_multiplier, map_rejected, with_first_axis_to};
+use crate::common::map_points::{leaves_holding, random_point};
 use crate::common::paths::{load_problem, seed_file};
 use crate::common::tmp;
 
 fn axis(key: &str, lo: f64, hi: f64) -> Axis {
-    Axis {
-        parameter: Parameter::from_key(key).expect("a rangeable key"),
-        lo,
-        hi,
-    }
+    Axis::new(Parameter::from_key(key).expect("a rangeable key"), lo, hi)
 }
 
 fn map(problem: &Problem, axes: Vec<Axis>, depth: u32) -> RegionMap {
@@ -42,14 +40,8 @@ fn map(problem: &Problem, axes: Vec<Axis>, depth: u32) -> RegionMap {
 
 /// The leaf holding the point (on a shared face, the first found).
 fn leaf_at<'m>(m: &'m RegionMap, values: &[f64]) -> &'m safereach::proof::region_map::Leaf {
-    m.leaves
-        .iter()
-        .find(|l| {
-            m.ranges.iter().zip(values).all(|(a, v)| {
-                let [lo, hi] = l.bounds[a.parameter.key()];
-                lo <= *v && *v <= hi
-            })
-        })
+    leaves_holding(m, values)
+        .next()
         .expect("the leaves cover the box")
 }
 
@@ -60,28 +52,13 @@ fn points_agree(problem: &Problem, m: &RegionMap, points: usize, seed: u64) -> (
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut certified, mut refuted) = (0, 0);
     for _ in 0..points {
-        let values: Vec<f64> = m
-            .ranges
-            .iter()
-            .map(|a| {
-                // Round to 4 decimals: short numbers keep exact arithmetic quick, and
-                // faces and corners get hit now and then.
-                let v = a.lo + rng.random::<f64>() * (a.hi - a.lo);
-                ((v * 1e4).round() / 1e4).clamp(a.lo, a.hi)
-            })
-            .collect();
+        let values = random_point(m, || rng.random::<f64>(), 4);
         let mut p = problem.clone();
         for (a, v) in m.ranges.iter().zip(&values) {
             a.parameter.set_in(&mut p, *v);
         }
         let answer = analyse(&p).expect("analysable");
-        let holding = m.leaves.iter().filter(|l| {
-            m.ranges.iter().zip(&values).all(|(a, v)| {
-                let [lo, hi] = l.bounds[a.parameter.key()];
-                lo <= *v && *v <= hi
-            })
-        });
-        for leaf in holding {
+        for leaf in leaves_holding(m, &values) {
             if leaf.verdict != LeafVerdict::Certified {
                 continue;
             }
@@ -265,14 +242,7 @@ fn tampered_maps_are_rejected() {
         ],
         6,
     );
-    let resign = |mut x: RegionMap| {
-        x.digest = x.compute_digest();
-        x
-    };
-    let rejects = |x: RegionMap, why: &str| {
-        let e = check_map(&x).expect_err(why);
-        eprintln!("{why}: {}", e.0);
-    };
+    let rejects = map_rejected;
     let certified = m
         .leaves
         .iter()
@@ -284,41 +254,25 @@ fn tampered_maps_are_rejected() {
     let e = check_map(&x).expect_err("unsigned edit");
     assert!(e.0.contains("digest"), "{}", e.0);
     // A wider box (the leaves' boxes follow the new whole box).
-    let mut x = m.clone();
-    x.ranges[0].hi = 0.5;
-    let whole = x.whole();
-    for l in &mut x.leaves {
-        l.bounds = safereach::proof::region_map::bounds_of(
-            &safereach::proof::region_map::box_at(&whole, &l.path).expect("path"),
-        );
-    }
-    rejects(resign(x), "a wider box");
+    rejects(with_first_axis_to(&m, 0.5), "a wider box");
     // A dropped piece.
     let mut x = m.clone();
     x.leaves[certified].proofs.pop();
-    rejects(resign(x), "a dropped piece");
+    rejects(x, "a dropped piece");
     // An edited multiplier (the largest one, halved).
     let mut x = m.clone();
-    let proof = x.leaves[certified]
-        .proofs
-        .iter_mut()
-        .max_by_key(|p| p.multipliers.len())
-        .expect("a proof");
-    let k = (0..proof.multipliers.len())
-        .max_by(|&a, &b| proof.multipliers[a].total_cmp(&proof.multipliers[b]))
-        .expect("multipliers");
-    proof.multipliers[k] *= 0.5;
-    rejects(resign(x), "an edited multiplier");
+    halve_largest_multiplier(&mut x.leaves[certified]);
+    rejects(x, "an edited multiplier");
     // A leaf's box that is not its path's, a leaf left out, a verdict flipped.
     let mut x = m.clone();
     x.leaves[certified]
         .bounds
         .get_mut("controller.reaction_radius")
         .unwrap()[0] -= 0.01;
-    rejects(resign(x), "a moved face");
+    rejects(x, "a moved face");
     let mut x = m.clone();
     x.leaves.remove(certified);
-    rejects(resign(x), "a leaf left out");
+    rejects(x, "a leaf left out");
     if let Some(r) = m
         .leaves
         .iter()
@@ -326,15 +280,15 @@ fn tampered_maps_are_rejected() {
     {
         let mut x = m.clone();
         x.leaves[r].verdict = LeafVerdict::Certified;
-        rejects(resign(x), "a refuted leaf called certified");
+        rejects(x, "a refuted leaf called certified");
         let mut x = m.clone();
         let point = &mut x.leaves[r].refutation.as_mut().unwrap().point;
         *point.get_mut("environment.obstacle_speed").unwrap() = 0.01;
-        rejects(resign(x), "a refuted point moved outside its leaf");
+        rejects(x, "a refuted point moved outside its leaf");
     }
     let mut x = m.clone();
     x.coverage.certified += 0.1;
-    rejects(resign(x), "coverage overstated");
+    rejects(x, "coverage overstated");
 }
 
 #[test]

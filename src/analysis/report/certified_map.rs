@@ -47,16 +47,8 @@ pub fn certified_map(grid: &Grid) -> Result<Option<RegionMap>, String> {
         return Ok(None);
     }
     let whole = ParamBox::new(vec![
-        Axis {
-            parameter: Parameter::ObstacleSpeed,
-            lo: w.0,
-            hi: w.1,
-        },
-        Axis {
-            parameter: Parameter::ReactionRadius,
-            lo: rho.0,
-            hi: rho.1,
-        },
+        Axis::new(Parameter::ObstacleSpeed, w.0, w.1),
+        Axis::new(Parameter::ReactionRadius, rho.0, rho.1),
     ])?;
     let options = RegionOptions {
         depth: DEPTH,

@@ -41,8 +41,8 @@ pub fn svg_with_points(map: &RegionMap, points: &[PointCell]) -> String {
         (LEFT + W / 2.0) as u32,
         &format!(
             "Region certificates over {} × {}: certified {:.1}%, refuted {:.1}%, undecided {:.1}%",
-            xa.parameter.symbol(),
-            ya.parameter.symbol(),
+            symbol(&xa),
+            symbol(&ya),
             100.0 * map.coverage.certified,
             100.0 * map.coverage.refuted,
             100.0 * map.coverage.undecided
@@ -56,8 +56,8 @@ pub fn svg_with_points(map: &RegionMap, points: &[PointCell]) -> String {
         LeafVerdict::Refuted,
     ] {
         for leaf in map.leaves.iter().filter(|l| l.verdict == pass) {
-            let [x0, x1] = leaf.bounds[xa.parameter.key()];
-            let [y0, y1] = leaf.bounds[ya.parameter.key()];
+            let [x0, x1] = leaf.bounds[&xa.key()];
+            let [y0, y1] = leaf.bounds[&ya.key()];
             let fill = match pass {
                 LeafVerdict::Certified => CERTIFIED,
                 LeafVerdict::Refuted => REFUTED,
@@ -105,13 +105,16 @@ fn frac(v: f64, a: &Axis) -> f64 {
     }
 }
 
+/// The axis's symbol: an obstacle's own numbers carry its index (W_1).
+fn symbol(a: &Axis) -> String {
+    match a.obstacle {
+        Some(i) => format!("{}_{i}", a.parameter.symbol()),
+        None => a.parameter.symbol().to_string(),
+    }
+}
+
 fn label(a: &Axis) -> String {
-    format!(
-        "{} {} ({})",
-        a.parameter.key(),
-        a.parameter.symbol(),
-        a.parameter.unit()
-    )
+    format!("{} {} ({})", a.key(), symbol(a), a.parameter.unit())
 }
 
 fn frame_and_ticks(svg: &mut Svg, xa: &Axis, ya: &Axis) {
@@ -178,55 +181,90 @@ fn legend(svg: &mut Svg, points: bool) {
     }
 }
 
-/// The problem's fixed numbers, and how more than two ranged parameters are shown.
+/// The problem's (or scene's) fixed numbers, and how more than two ranged parameters are
+/// shown.
 fn caption(map: &RegionMap) -> Vec<String> {
-    let p = &map.problem;
-    let ranged = |key: &str| map.ranges.iter().any(|a| a.parameter.key() == key);
-    let robot = [
-        format!("v_max = {} m/s", p.robot.max_speed),
-        format!("a = {} m/s²", p.robot.acceleration),
-        format!("b = {} m/s²", p.robot.braking),
-        format!("dt = {} s", p.robot.control_period),
-        format!("L = {} periods", p.robot.latency),
+    let ranged = |key: &str| map.ranges.iter().any(|a| a.key() == key);
+    let scene = map.scene.clone();
+    let problem = map.problem.clone();
+    let (robot, controller, kind) = match (&problem, &scene) {
+        (Some(p), _) => (&p.robot, &p.controller, "problem"),
+        (None, Some(s)) => (&s.robot, &s.controller, "scene"),
+        (None, None) => return Vec::new(),
+    };
+    let p = (robot, controller);
+    let robot_numbers = [
+        format!("v_max = {} m/s", p.0.max_speed),
+        format!("a = {} m/s²", p.0.acceleration),
+        format!("b = {} m/s²", p.0.braking),
+        format!("dt = {} s", p.0.control_period),
+        format!("L = {} periods", p.0.latency),
     ];
-    let named = [
+    let mut named: Vec<(String, String)> = Vec::new();
+    if let Some(pr) = &problem {
+        named.push((
+            "environment.obstacle_speed".into(),
+            format!("W = {} m/s", pr.environment.obstacle_speed),
+        ));
+    }
+    named.extend([
         (
-            "environment.obstacle_speed",
-            format!("W = {} m/s", p.environment.obstacle_speed),
+            "controller.reaction_radius".to_string(),
+            format!("ρ = {} m", p.1.reaction_radius),
         ),
         (
-            "controller.reaction_radius",
-            format!("ρ = {} m", p.controller.reaction_radius),
+            "controller.assumed_obstacle_speed".into(),
+            format!("V_a = {} m/s", p.1.assumed_obstacle_speed),
         ),
         (
-            "controller.assumed_obstacle_speed",
-            format!("V_a = {} m/s", p.controller.assumed_obstacle_speed),
+            "controller.buffer".into(),
+            format!("buffer = {} m", p.1.buffer),
         ),
-        (
-            "controller.buffer",
-            format!("buffer = {} m", p.controller.buffer),
-        ),
-        (
-            "environment.initial_gap",
-            format!("g0 = {} m", p.environment.initial_gap.min()),
-        ),
-        (
-            "robot.clearance",
-            format!("clearance = {} m", p.robot.clearance),
-        ),
-    ];
+    ]);
+    if let Some(pr) = &problem {
+        named.push((
+            "environment.initial_gap".into(),
+            format!("g0 = {} m", pr.environment.initial_gap.min()),
+        ));
+    }
+    named.push((
+        "robot.clearance".into(),
+        format!("clearance = {} m", p.0.clearance),
+    ));
+    if let Some(sc) = &scene {
+        for (i, o) in sc.obstacles.iter().enumerate() {
+            named.push((
+                format!("obstacle.{i}.position"),
+                format!(
+                    "{i} ({}) at x = {} m in lane {}",
+                    o.name,
+                    o.position.min(),
+                    o.lane
+                ),
+            ));
+            let speed = if o.is_static {
+                "static".to_string()
+            } else {
+                format!("W_{i} = {} m/s", o.max_speed)
+            };
+            named.push((format!("obstacle.{i}.max_speed"), speed));
+        }
+    }
+    let robot = robot_numbers;
+    let p_name = map.name();
+    let p_controller = p.1;
     let fixed: Vec<String> = named
         .into_iter()
         .filter(|(k, _)| !ranged(k))
         .map(|(_, v)| v)
         .collect();
     let mut lines = vec![
-        format!("problem {}: robot {}", p.name, robot.join(", ")),
+        format!("{kind} {p_name}: robot {}", robot.join(", ")),
         format!("fixed: {}", fixed.join(", ")),
         format!(
             "danger rule {:?}, wrong-assumption brake {}; {} leaves, depth ≤ {}",
-            p.controller.danger_rule,
-            if p.controller.wrong_assumption_brake {
+            p_controller.danger_rule,
+            if p_controller.wrong_assumption_brake {
                 "on"
             } else {
                 "off"
@@ -239,7 +277,7 @@ fn caption(map: &RegionMap) -> Vec<String> {
     if map.ranges.len() > 2 {
         let others: Vec<String> = map.ranges[2..]
             .iter()
-            .map(|a| format!("{} in [{}, {}]", a.parameter.key(), a.lo, a.hi))
+            .map(|a| format!("{} in [{}, {}]", a.key(), a.lo, a.hi))
             .collect();
         lines.push(format!(
             "projected over {}: a colour is the worst verdict over them",

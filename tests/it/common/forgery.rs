@@ -456,3 +456,46 @@ pub fn forgeries_rejected(
     }
     Ok(applied)
 }
+
+/// A region map re-signed after an edit, as a forger would.
+pub fn resign_map(
+    mut m: safereach::proof::region_map::RegionMap,
+) -> safereach::proof::region_map::RegionMap {
+    m.digest = m.compute_digest();
+    m
+}
+
+/// `check_map` rejects the forged (re-signed) map `m`; `why` names the forgery.
+pub fn map_rejected(m: safereach::proof::region_map::RegionMap, why: &str) {
+    let e = safereach::proof::region_check::check_map(&resign_map(m)).expect_err(why);
+    eprintln!("{why}: {}", e.0);
+}
+
+/// The map with its first axis's upper end moved to `hi` and every leaf's box following
+/// its path in the new whole box.
+pub fn with_first_axis_to(
+    m: &safereach::proof::region_map::RegionMap,
+    hi: f64,
+) -> safereach::proof::region_map::RegionMap {
+    use safereach::proof::region_map::{bounds_of, box_at};
+    let mut x = m.clone();
+    x.ranges[0].hi = hi;
+    let whole = x.whole();
+    for l in &mut x.leaves {
+        l.bounds = bounds_of(&box_at(&whole, &l.path).expect("path"));
+    }
+    x
+}
+
+/// Halves the largest multiplier of the leaf's longest proof.
+pub fn halve_largest_multiplier(leaf: &mut safereach::proof::region_map::Leaf) {
+    let proof = leaf
+        .proofs
+        .iter_mut()
+        .max_by_key(|p| p.multipliers.len())
+        .expect("a proof");
+    let k = (0..proof.multipliers.len())
+        .max_by(|&a, &b| proof.multipliers[a].total_cmp(&proof.multipliers[b]))
+        .expect("multipliers");
+    proof.multipliers[k] *= 0.5;
+}

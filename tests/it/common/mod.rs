@@ -1,7 +1,8 @@
 //! The scaffolding the integration tests share, written once: the problem builder and the
 //! random problems ([`spec`]), where files are ([`paths`]), the committed fixtures
-//! ([`fixtures`]), the command runner ([`cli`]), certificate forgeries ([`forgery`]) and
-//! feeding trace text to the monitor ([`monitoring`]).
+//! ([`fixtures`]), the command runner ([`cli`]), certificate forgeries ([`forgery`]),
+//! points of region maps ([`map_points`]) and feeding trace text to the monitor
+//! ([`monitoring`]).
 //!
 //! Nothing here needs the solver or the binary at compile time, so `tests/lean` (built
 //! without default features) and `tests/brute_force.rs` include this module too, by path.
@@ -9,6 +10,7 @@
 pub mod cli;
 pub mod fixtures;
 pub mod forgery;
+pub mod map_points;
 pub mod monitoring;
 pub mod paths;
 pub mod spec;
