@@ -107,7 +107,10 @@ fn attempt(
                 if proved_empty(&obstacles[b].own[p].result) {
                     continue;
                 }
-                let firing = obstacles[b].own[p].piece;
+                // The firing piece's own shift at this step (a merged piece stands for it).
+                let Some(firing) = obstacles[b].own[p].piece.shifted_to(piece.brake) else {
+                    continue;
+                };
                 if let Some((0, speeds)) = piece_speeds(dec, b, &firing, margin, solved) {
                     trigger = Some(Trigger::Obstacle {
                         obstacle: dec.obstacles[b].obstacle,

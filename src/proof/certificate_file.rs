@@ -21,7 +21,7 @@ pub use crate::proof::certificate::Certificate;
 pub enum CertificateFile {
     /// One obstacle in the robot's lane (`safereach-certificate/3`).
     Single(Box<Certificate>),
-    /// A scene (`safereach-scene-certificate/2`).
+    /// A scene (`safereach-scene-certificate/3`).
     Scene(Box<SceneCertificate>),
     /// A scene decided by the run search (`safereach-scene-search-certificate/2`).
     Search(Box<SearchCertificate>),

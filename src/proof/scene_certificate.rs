@@ -18,7 +18,7 @@ use crate::proof::schedule::Piece;
 use crate::proof::verdict::Verdict;
 
 /// The format tag written into every scene certificate.
-pub const SCENE_FORMAT: &str = "safereach-scene-certificate/2";
+pub const SCENE_FORMAT: &str = "safereach-scene-certificate/3";
 
 /// The proofs for one obstacle of the robot's lane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

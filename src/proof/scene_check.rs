@@ -329,8 +329,13 @@ fn check_scene_piece(
         ));
     }
     if let Some(Trigger::Obstacle { obstacle, piece }) = &w.trigger {
-        let listed = proofs_of(*obstacle)
-            .is_some_and(|o| *obstacle != w.obstacle && o.own.iter().any(|p| p.piece == *piece));
+        // Listed itself, or one shift of a listed merged piece.
+        let listed = proofs_of(*obstacle).is_some_and(|o| {
+            *obstacle != w.obstacle
+                && o.own
+                    .iter()
+                    .any(|p| p.piece.shifted_to(piece.brake) == Some(*piece))
+        });
         if !listed {
             return Err(format!(
                 "the witness's trigger ({}) is not a piece of another obstacle of the lane",

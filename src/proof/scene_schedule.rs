@@ -138,7 +138,6 @@ impl SceneDecomposition {
         quiet: Vec<Option<usize>>,
     ) -> Self {
         let goal_step = scene.goal.map(|g| goal_step(&scene.robot_params(), g));
-        let single = lane.len() == 1;
         let obstacles = lane
             .into_iter()
             .enumerate()
@@ -151,9 +150,9 @@ impl SceneDecomposition {
                     obstacle: i,
                     quiet_until: quiet[a],
                     limit,
-                    // A merged piece stands for many brake steps; another obstacle's
-                    // bystander steps need each firing step on its own.
-                    decomposition: Decomposition::build(params, limit, single, region),
+                    // A merged piece stands for every shift up to the limit; another
+                    // obstacle's bystander steps take each of its brake steps.
+                    decomposition: Decomposition::build(params, limit, true, region),
                 }
             })
             .collect();
@@ -184,7 +183,15 @@ impl SceneDecomposition {
             }
             for (p, piece) in o.decomposition.pieces.iter().enumerate() {
                 if matches!(piece.ending, Ending::Danger | Ending::WrongAssumption) {
-                    step_entry(&mut steps, piece.brake).by_pieces.push((b, p));
+                    // No behaviour fires after the step at which standing still does
+                    // (Lemma S3): a merged piece's later shifts are empty.
+                    let steps_of = o.decomposition.brake_steps(piece);
+                    let last = o
+                        .quiet_until
+                        .map_or(steps_of.end, |z| steps_of.end.min(z + 1));
+                    for t in steps_of.start..last.max(steps_of.start + 1) {
+                        step_entry(&mut steps, t).by_pieces.push((b, p));
+                    }
                 }
             }
         }

@@ -130,6 +130,22 @@ pub struct Piece {
 }
 
 impl Piece {
+    /// The single piece a merged piece stands for at brake step `t` (its shift by
+    /// t − brake), or None when `t` is not one of its shifts. An unmerged piece stands only
+    /// for itself.
+    pub fn shifted_to(&self, t: usize) -> Option<Piece> {
+        let j = t.checked_sub(self.brake)?;
+        if j > 0 && !self.merged {
+            return None;
+        }
+        Some(Piece {
+            brake: t,
+            entry: self.entry.map(|e| e + j),
+            merged: false,
+            ..*self
+        })
+    }
+
     /// Whether the piece's objective is a separation (else it is a feasibility question).
     pub fn has_objective(&self) -> bool {
         self.ending != Ending::PassThrough
@@ -191,8 +207,12 @@ pub struct Decomposition {
     /// observed outside the reaction area.
     pub first_brake: usize,
     /// No piece brakes at or after this step: the robot alone has reached the obstacle's
-    /// start by then. (Merged pieces stand for every later shift below it.)
+    /// start by then, or (with `cut`) the robot has braked for another reason. (Merged
+    /// pieces stand for every later shift below it.)
     pub(crate) last_brake: usize,
+    /// The limit that cut `last_brake` short (a scene's T_max), if it did: a merged piece's
+    /// shifts then stop at it, which raises the lower end of its anchor gap (Lemma 11).
+    pub(crate) cut: Option<usize>,
     /// All pieces, in a fixed order (the certificate lists proofs in this order).
     pub pieces: Vec<Piece>,
     /// Time and distance to stop when braking from v_max (shared by every cruising piece).
@@ -300,8 +320,8 @@ impl Decomposition {
 
     /// As [`Decomposition::from_params`], keeping only pieces whose brake step is at most
     /// `limit` (in a scene, the robot has braked for another reason by then). Pieces are
-    /// merged over shifts only when `merge` allows it and the limit cuts none of them: a
-    /// merged piece stands for every later shift up to `last_brake`.
+    /// merged over shifts when `merge` allows it: a merged piece stands for every later
+    /// shift below `last_brake` (up to the limit, when it cuts).
     pub fn from_params_until(params: Params<Exact>, limit: Option<usize>, merge: bool) -> Self {
         Self::build(params, limit, merge, None)
     }
@@ -326,6 +346,7 @@ impl Decomposition {
             first_brake: 0,
             last_brake: 0,
             pieces: Vec::new(),
+            cut: None,
             region,
             guard_active: false,
             sighting_cross: 0,
@@ -333,15 +354,11 @@ impl Decomposition {
         d.widest_area = d.widest_area_corner();
         d.guard_active = d.guard_active_somewhere();
         d.find_brake_range();
-        let cut = limit.filter(|&t| t.saturating_add(1) < d.last_brake);
-        if let Some(t) = cut {
+        d.cut = limit.filter(|&t| t.saturating_add(1) < d.last_brake);
+        if let Some(t) = d.cut {
             d.last_brake = t + 1;
         }
-        let merge_at = if cut.is_some() || !merge {
-            None
-        } else {
-            d.merge_step()
-        };
+        let merge_at = if merge { d.merge_step() } else { None };
         if d.wrong_assumption_active() {
             d.list_in_area_pieces(merge_at);
         } else {
@@ -659,6 +676,16 @@ impl Decomposition {
         }
     }
 
+    /// The brake steps a piece stands for: its own, and for a merged piece every later
+    /// shift's below `last_brake` (Lemma 11; later shifts are empty, or cut off).
+    pub fn brake_steps(&self, piece: &Piece) -> std::ops::Range<usize> {
+        if piece.merged {
+            piece.brake..self.last_brake.max(piece.brake + 1)
+        } else {
+            piece.brake..piece.brake + 1
+        }
+    }
+
     /// The anchor index m of a piece: the first gap index any of its rows mentions.
     pub(crate) fn anchor(&self, piece: &Piece) -> usize {
         let l = self.params.L;
@@ -748,22 +775,30 @@ impl Decomposition {
     fn variables(&self, s: &Params<ParamAffine>, piece: &Piece, m: usize, n: usize) -> Vec<Var> {
         // From the farthest start with the obstacle standing still ...
         let hi = s.g0_max.clone() - ParamAffine::constant(self.position(m));
-        let lo = if piece.merged {
+        // A merged piece cut short stands for the shifts up to the cut: the union of their
+        // boxes ends below at the last shift's lower end (Lemma 11).
+        let last_shift = self
+            .cut
+            .filter(|_| piece.merged && !piece.detected)
+            .map(|c| m + (c - piece.brake));
+        // The anchor whose lower end counts.
+        let low = last_shift.unwrap_or(m);
+        let lo = if piece.merged && last_shift.is_none() {
             // The rows force g_n > −σ_g (the observation at T positive for some error).
             -s.sigma_g.clone()
         } else if piece.early && piece.detected {
             // First seen by the anchor, inside the area, its observed speeds ≤ V_a since.
-            self.detected_lowest_gap(s, m)
+            self.detected_lowest_gap(s, low)
                 .expect("early twins are listed only where a sighting is possible")
                 .0
         } else if piece.early {
             // In the area before the anchor, the obstacle's observed speed is ≤ V_a.
-            self.early_lowest_gap(s, m)
+            self.early_lowest_gap(s, low)
         } else {
             // ... to the nearest start with the obstacle at W throughout.
             s.g0.clone()
-                - ParamAffine::constant(self.position(m))
-                - s.W.scaled(&(self.params.dt.clone() * Exact::from(m)))
+                - ParamAffine::constant(self.position(low))
+                - s.W.scaled(&(self.params.dt.clone() * Exact::from(low)))
         };
         let mut vars = vec![Var {
             name: format!("g[{m}]"),
@@ -1013,7 +1048,13 @@ impl Decomposition {
         let hi = p.g0_max.clone() - self.position(self.anchor(piece));
         let step = p.v_max.clone() * p.dt.clone();
         let j = ((hi - u.clone()) / step).floor();
-        usize::try_from(j).unwrap_or(0)
+        let j = usize::try_from(j).unwrap_or(0);
+        // A cut piece's u is at least the last shift's lower end, which lies in that shift's
+        // box (every later h_j is above it, consecutive boxes overlapping).
+        match self.cut {
+            Some(c) if !piece.detected => j.min(c - piece.brake),
+            _ => j,
+        }
     }
 }
 
