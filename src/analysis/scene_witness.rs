@@ -96,10 +96,11 @@ fn attempt(
     let mut trigger = None;
     let mut fired: Option<(usize, Vec<f64>)> = None;
     if piece.ending == Ending::Bystander {
+        // (A merged bystander piece stands for its shifts: the step its solution brakes at.)
         let step = dec
             .bystander_steps(a)
             .into_iter()
-            .find(|s| s.step == piece.brake)?;
+            .find(|s| s.step == brake)?;
         if step.by_goal {
             trigger = Some(Trigger::Goal);
         } else {
@@ -108,7 +109,7 @@ fn attempt(
                     continue;
                 }
                 // The firing piece's own shift at this step (a merged piece stands for it).
-                let Some(firing) = obstacles[b].own[p].piece.shifted_to(piece.brake) else {
+                let Some(firing) = obstacles[b].own[p].piece.shifted_to(brake) else {
                     continue;
                 };
                 if let Some((0, speeds)) = piece_speeds(dec, b, &firing, margin, solved) {

@@ -355,7 +355,10 @@ pub fn scene_witness_realises(
     replay: &simulate::SceneReplay,
 ) -> Result<(), String> {
     let run = schedule_of(replay, w.obstacle);
-    realises(&w.piece, shift_of(&w.piece, &run), &run, true)?;
+    let shift = shift_of(&w.piece, &run);
+    realises(&w.piece, shift, &run, true)?;
+    // The step the robot brakes at (a merged bystander piece's shift of it).
+    let t = w.piece.brake + shift;
     match (&w.trigger, w.piece.ending) {
         (None, Ending::Bystander) => Err("a bystander witness must name its trigger".into()),
         (None, _) => Ok(()),
@@ -363,22 +366,20 @@ pub fn scene_witness_realises(
             Err("only a bystander witness names a trigger".into())
         }
         (Some(Trigger::Goal), _) => {
-            if run.brake == Some((w.piece.brake, BrakeReason::Destination)) {
+            if run.brake == Some((t, BrakeReason::Destination)) {
                 Ok(())
             } else {
                 Err(format!(
-                    "the witness says the robot brakes for its destination at step {}, but its \
-                     replay does not",
-                    w.piece.brake
+                    "the witness says the robot brakes for its destination at step {t}, but its \
+                     replay does not"
                 ))
             }
         }
         (Some(Trigger::Obstacle { obstacle, piece }), _) => {
-            if piece.brake != w.piece.brake || *obstacle >= replay.params.obstacles.len() {
+            if piece.brake != t || *obstacle >= replay.params.obstacles.len() {
                 return Err(format!(
-                    "the witness's trigger ({}) does not fire at its brake step {}",
+                    "the witness's trigger ({}) does not fire at its brake step {t}",
                     piece.describe(),
-                    w.piece.brake
                 ));
             }
             let other = schedule_of(replay, *obstacle);

@@ -211,18 +211,34 @@ impl SceneDecomposition {
         possible: impl Fn(&BystanderStep) -> bool,
     ) -> Vec<Piece> {
         let d = &self.obstacles[a].decomposition;
+        // No bystander step is at or past `last_brake`: past the cut T_max every other
+        // obstacle (or the destination) has made the robot brake (Lemma S3), and from the
+        // end of the obstacle's own steps the robot has reached its start, so the piece is
+        // empty (Lemma 10).
         let steps: Vec<usize> = self
             .bystander_steps(a)
             .iter()
-            .filter(|s| possible(s))
+            .filter(|s| possible(s) && s.step < d.last_brake)
             .map(|s| s.step)
             .collect();
         let last_far = steps.iter().copied().filter(|&t| t <= d.first_brake).max();
-        steps
+        let kept: Vec<usize> = steps
             .into_iter()
             .filter(|&t| t > d.first_brake || Some(t) == last_far)
-            .flat_map(|t| d.bystander_pieces(t))
-            .collect()
+            .collect();
+        let merged_from = bystander_merge_from(d, &kept, self.obstacles[a].quiet_until);
+        let mut pieces: Vec<Piece> = kept
+            .iter()
+            .filter(|&&t| merged_from.is_none_or(|m| t < m))
+            .flat_map(|&t| d.bystander_pieces(t))
+            .collect();
+        if let Some(m) = merged_from {
+            pieces.push(Piece {
+                merged: true,
+                ..d.bystander_pieces(m)[0]
+            });
+        }
+        pieces
     }
 
     /// Whether some obstacle's firing pieces are merged over shifts (only when it is alone
@@ -230,6 +246,31 @@ impl SceneDecomposition {
     pub fn single(&self) -> bool {
         self.obstacles.len() == 1 && self.goal_step.is_none()
     }
+}
+
+/// Where the bystander steps `kept` (ascending) merge into one piece (Lemmas 11, 11′): the
+/// first step of their unbroken tail that ends at the last step with a behaviour — below
+/// `last_brake`, and no later than the obstacle's own quiet step `z` (Lemma S3: past it
+/// every behaviour has fired) — when the robot cruises there and shifted boxes overlap (from
+/// the own pieces' merge step on), and the tail has two steps or more. The merged piece
+/// stands for every shift up to `last_brake`, the ones past the tail's end being empty.
+/// Only without the wrong-assumption guard (then a step has one bystander piece).
+fn bystander_merge_from(d: &Decomposition, kept: &[usize], z: Option<usize>) -> Option<usize> {
+    let last = d.last_brake.checked_sub(1)?;
+    let end = z.map_or(last, |z| z.min(last));
+    if d.wrong_assumption_active() || kept.last() != Some(&end) {
+        return None;
+    }
+    let cut = end;
+    let from = d.merge_step()?.max(d.first_brake + 1);
+    let mut start = cut;
+    for pair in kept.windows(2).rev() {
+        if pair[1] != pair[0] + 1 || pair[0] < from {
+            break;
+        }
+        start = pair[0];
+    }
+    (start < cut && start >= from).then_some(start)
 }
 
 /// The entry of `step` in the ascending list, inserted empty if missing.

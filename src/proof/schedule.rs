@@ -449,7 +449,7 @@ impl Decomposition {
 
     /// The brake step from which shifted pieces merge (cruising, and the boxes of
     /// consecutive shifts overlap), if it comes before `last_brake`.
-    fn merge_step(&self) -> Option<usize> {
+    pub(crate) fn merge_step(&self) -> Option<usize> {
         let p = &self.params;
         // (Over a box: its slowest obstacle needs the longest anchor.)
         let w = self.least(Parameter::ObstacleSpeed);
