@@ -33,6 +33,13 @@
 //! destination, decides T; every other obstacle is a bystander at T), and every listed piece
 //! is realised by a scene behaviour (the others at speed 0, the firing one by its own piece),
 //! so s* = least optimum over the pieces, exactly.
+//!
+//! # Merging
+//! Own pieces merge over shifts as alone, up to the cut T_max,i (a merged piece's anchor gap
+//! then ends below at its last shift's lower end), and a merged firing piece makes every one
+//! of its shifts up to z_j a bystander step of the others. An obstacle's bystander steps stop
+//! at its own z_i and below its `last_brake`; an unbroken run of them reaching that end merges
+//! into one bystander piece (docs/reductions.md, Lemma 11′).
 
 use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar};
@@ -239,12 +246,6 @@ impl SceneDecomposition {
             });
         }
         pieces
-    }
-
-    /// Whether some obstacle's firing pieces are merged over shifts (only when it is alone
-    /// in the lane and there is no destination: then no bystander steps exist).
-    pub fn single(&self) -> bool {
-        self.obstacles.len() == 1 && self.goal_step.is_none()
     }
 }
 
