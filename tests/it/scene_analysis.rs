@@ -272,3 +272,78 @@ proptest! {
         }
     }
 }
+
+/// A merged piece stands exactly for its shifts (docs/reductions.md, Lemma 11′): its optimum
+/// is the least optimum of the single pieces at its brake step and every later one up to
+/// the obstacle's z, solved one by one (infeasible ones skipped), for every merged piece —
+/// own (cut at T_max) and bystander — of scenes with two and three obstacles in the lane, a
+/// destination and a latency of 2.
+#[test]
+fn a_merged_piece_is_the_union_of_its_shifts() {
+    use safereach::analysis::lp::{LpOutcome, solve};
+    use safereach::proof::scene_schedule::SceneDecomposition;
+
+    fn optimum(
+        d: &safereach::proof::schedule::Decomposition,
+        p: &safereach::proof::schedule::Piece,
+    ) -> Option<f64> {
+        match solve(&d.program(p), 0.0) {
+            LpOutcome::Optimal { value, .. } => Some(value),
+            LpOutcome::Infeasible { .. } => None,
+            LpOutcome::Failed { status } => panic!("solver failed: {status}"),
+        }
+    }
+    let scenes = [
+        shipped_scene("scene-oncoming", &[]),
+        shipped_scene("scene-oncoming", &["robot.latency=2", "robot.goal=9.0"]),
+        shipped_scene(
+            "scene-oncoming",
+            &["obstacle.1.position=11.0", "obstacle.2.position=11.5"],
+        ),
+    ];
+    let mut checked = 0;
+    for s in &scenes {
+        let dec = SceneDecomposition::new(s).expect("decided");
+        for (a, o) in dec.obstacles.iter().enumerate() {
+            let d = &o.decomposition;
+            let z = o
+                .quiet_until
+                .expect("every obstacle here fires standing still");
+            let pieces: Vec<_> = d
+                .pieces
+                .iter()
+                .copied()
+                .chain(dec.bystanders_needed(a, |_| true))
+                .filter(|p| p.merged && p.has_objective())
+                .collect();
+            for merged in pieces {
+                let whole = optimum(d, &merged);
+                let single = (merged.brake..=z)
+                    .filter_map(|t| merged.shifted_to(t))
+                    .filter_map(|p| optimum(d, &p))
+                    .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.min(v))));
+                match (whole, single) {
+                    (Some(w), Some(least)) => assert!(
+                        (w - least).abs() <= 1e-6,
+                        "{}: {} optimum {w}, its shifts' least {least}",
+                        s.name,
+                        merged.describe()
+                    ),
+                    (w, s) => assert_eq!(w.is_some(), s.is_some(), "{}", merged.describe()),
+                }
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 6, "merged pieces checked: {checked}");
+}
+
+/// A shipped scene with `--set` overrides.
+fn shipped_scene(name: &str, sets: &[&str]) -> Scene {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    Scene::load_with_overrides(
+        &crate::common::paths::problem_file(&format!("{name}.toml")),
+        &sets,
+    )
+    .expect("the scene loads")
+}
