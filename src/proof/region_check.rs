@@ -13,6 +13,8 @@
 //!    point, collides;
 //! 6. the stated coverage follows from the leaves.
 
+use std::collections::BTreeMap;
+
 use crate::core::model::Problem;
 use crate::core::num::{Exact, f64_at_most};
 use crate::core::param_box::ParamBox;
@@ -25,9 +27,7 @@ use crate::proof::region_map::{
     BoxProof, Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, box_at,
     path_step, volume_fraction,
 };
-use crate::proof::scene_region_check::{
-    check_scene_refutation, check_stated_lower, scene_box_margin, scene_refusal,
-};
+use crate::proof::scene_region_check::{check_scene_refutation, scene_box_margin, scene_refusal};
 use crate::proof::schedule::{Decomposition, Piece};
 use crate::proof::verdict::aim;
 
@@ -393,22 +393,49 @@ pub fn box_proof_value(
     }
 }
 
-/// A refutation: the point lies in the box and the behaviour collides there, exactly.
-fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(), Invalid> {
-    let keys: Vec<String> = b.axes.iter().map(|a| a.key()).collect();
-    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
-    if r.point.keys().map(String::as_str).ne(sorted(&keys)) {
+/// A refuted point's value of each axis of `b`, in axis order, when the point gives exactly
+/// the ranged keys and lies in the leaf `b`.
+pub(crate) fn point_in_leaf(
+    b: &ParamBox,
+    point: &BTreeMap<String, f64>,
+) -> Result<Vec<f64>, Invalid> {
+    let mut keys: Vec<String> = b.axes.iter().map(|a| a.key()).collect();
+    keys.sort_unstable();
+    if point.keys().ne(keys.iter()) {
         return invalid("the refuted point does not give exactly the ranged keys");
     }
+    b.axes
+        .iter()
+        .map(|a| {
+            let v = point[&a.key()];
+            if a.lo <= v && v <= a.hi {
+                Ok(v)
+            } else {
+                invalid(format!(
+                    "the refuted point's {} = {v} lies outside the leaf",
+                    a.key()
+                ))
+            }
+        })
+        .collect()
+}
+
+/// The stated lower bound of a certified leaf must be what its proofs give.
+fn check_stated_lower(stated: Option<f64>, lower: &Exact) -> Result<(), Invalid> {
+    if stated != Some(f64_at_most(lower)) {
+        return invalid(format!(
+            "stated lower bound {}, the proofs give {}",
+            shown(stated),
+            f64_at_most(lower)
+        ));
+    }
+    Ok(())
+}
+
+/// A refutation: the point lies in the box and the behaviour collides there, exactly.
+fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(), Invalid> {
     let mut at = problem.clone();
-    for a in &b.axes {
-        let v = r.point[&a.key()];
-        if !(a.lo <= v && v <= a.hi) {
-            return invalid(format!(
-                "the refuted point's {} = {v} lies outside the leaf",
-                a.key()
-            ));
-        }
+    for (a, v) in b.axes.iter().zip(point_in_leaf(b, &r.point)?) {
         a.parameter.set_in(&mut at, v);
     }
     at.validate("the refuted point")
@@ -434,12 +461,6 @@ fn check_refutation(problem: &Problem, b: &ParamBox, r: &Refutation) -> Result<(
 
 fn shown_index(i: Option<usize>) -> String {
     i.map_or_else(|| "none".into(), |i| i.to_string())
-}
-
-fn sorted<'a>(keys: &[&'a str]) -> impl Iterator<Item = &'a str> {
-    let mut k = keys.to_vec();
-    k.sort_unstable();
-    k.into_iter()
 }
 
 /// A piece in words, for messages.
