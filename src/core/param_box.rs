@@ -15,6 +15,13 @@ use crate::core::num::{Exact, exact_decimal};
 use crate::core::parameter::{ParamAffine, Parameter};
 use crate::core::scene::Scene;
 
+/// A scene obstacle's own rangeable keys (`obstacle.<i>.<key>`) and the parameter each is
+/// for that obstacle.
+const OBSTACLE_KEYS: [(Parameter, &str); 2] = [
+    (Parameter::ObstacleSpeed, "max_speed"),
+    (Parameter::InitialGap, "position"),
+];
+
 /// One ranged parameter: every value in `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -56,14 +63,10 @@ impl Axis {
                     "{key}: expected obstacle.<index>.<key> with a 0-based index"
                 ));
             };
-            let parameter = match field {
-                "max_speed" => Parameter::ObstacleSpeed,
-                "position" => Parameter::InitialGap,
-                _ => {
-                    return Err(format!(
-                        "{key}: an obstacle's rangeable keys are max_speed and position"
-                    ));
-                }
+            let Some(&(parameter, _)) = OBSTACLE_KEYS.iter().find(|(_, f)| *f == field) else {
+                return Err(format!(
+                    "{key}: an obstacle's rangeable keys are max_speed and position"
+                ));
             };
             return Ok(Axis {
                 obstacle: Some(i),
@@ -89,11 +92,11 @@ impl Axis {
     /// The key that sets it: the parameter's, or a scene obstacle's
     /// (`obstacle.0.max_speed`, `obstacle.0.position`).
     pub fn key(&self) -> String {
-        match (self.obstacle, self.parameter) {
-            (Some(i), Parameter::ObstacleSpeed) => format!("obstacle.{i}.max_speed"),
-            (Some(i), Parameter::InitialGap) => format!("obstacle.{i}.position"),
-            (Some(i), p) => format!("obstacle.{i}.{}", p.key()),
-            (None, p) => p.key().to_string(),
+        let field = OBSTACLE_KEYS.iter().find(|(p, _)| *p == self.parameter);
+        match (self.obstacle, field) {
+            (Some(i), Some((_, f))) => format!("obstacle.{i}.{f}"),
+            (Some(i), None) => format!("obstacle.{i}.{}", self.parameter.key()),
+            (None, _) => self.parameter.key().to_string(),
         }
     }
 
