@@ -781,11 +781,13 @@ fn follow(
 }
 
 /// The first step after `node.k` at which the controller might do anything but go on, when
-/// it can be told without branching: no obstacle of the robot's lane can be seen within ρ
-/// before it (observed gaps fall no faster than the robot's travel plus W_i per period),
-/// and the destination does not fire before it. Lane changes need danger, so none begins
-/// before it either; obstacles of other lanes are read only for lane changes. None when
-/// the robot might react now.
+/// it can be told without branching: no obstacle of the robot's lane can be shown where a
+/// guard reads it before then (observed gaps fall no faster than the robot's travel plus
+/// W_i per period), and the destination does not fire before it. Where only danger can
+/// fire ([`only_danger_fires`]) that is within min(ρ, d_i(v)), else within ρ: an obstacle
+/// in the area but not dangerous moves nothing (`scene_guard`). Lane changes need danger,
+/// so none begins before it either; obstacles of other lanes are read only for lane
+/// changes. None when the robot might react now.
 #[allow(clippy::too_many_arguments)]
 fn quiet_until(
     p: &SceneParams<Rational>,
@@ -813,14 +815,20 @@ fn quiet_until(
         let chain = &node.chains[i];
         let first = k.saturating_sub(l).max(chain.last_step());
         let lowest = chain.reach_at(chain.last_step()).lo?.at;
-        // First n ≥ first with lowest − W·dt·(n − last) − P_n ≤ ρ (monotone in n).
+        let guarded = only_danger_fires(p, sense, i);
+        // First n ≥ first with lowest − W·dt·(n − last) − P_n ≤ θ_n (monotone in n: the
+        // left side falls, θ_n = ρ or min(ρ, d(v_{n+L})) grows with the robot's speed).
         let near = |n: usize, profile: &mut Profile| {
             let fall = chain.w_max().clone()
                 * p.robot.dt.clone()
                 * Rational::int((n - chain.last_step()) as i64);
-            // Some error shows it within ρ iff its true gap is ≤ ρ + σ_g.
+            let reach = match guarded {
+                true => fires_within(p, i, &profile.at(p, n + l).speed),
+                false => p.robot.rho.clone(),
+            };
+            // Some error shows it within θ_n iff its true gap is ≤ θ_n + σ_g.
             lowest.clone() - fall - profile.at(p, n).position.clone()
-                <= p.robot.rho.clone() + sense.sigma_g.clone()
+                <= reach + sense.sigma_g.clone()
         };
         if near(first, profile) {
             return None;
@@ -846,6 +854,26 @@ fn quiet_until(
         next = next.min(hi + l);
     }
     (next > k).then_some(next)
+}
+
+/// Whether obstacle i, seen within ρ, can move the controller only by danger: it is never
+/// seen faster than V_a (static, the guard off, or W_i + σ_w ≤ V_a) and no occlusion
+/// decides its sight at a read (a read of a hidden obstacle is a choice of the run).
+fn only_danger_fires(p: &SceneParams<Rational>, sense: &Sense, i: usize) -> bool {
+    let o = &p.obstacles[i];
+    let wrong = p.robot.wrong_assumption_brake
+        && !o.is_static
+        && o.max_speed.clone() + sense.sigma_w.clone() > p.robot.V_a;
+    sense.d_det.is_none() && !wrong
+}
+
+/// min(ρ, d_i(v)): the largest shown gap at which obstacle i is dangerous to a robot at
+/// speed v (ρ under the area rule).
+fn fires_within(p: &SceneParams<Rational>, i: usize, v: &Rational) -> Rational {
+    match danger_distance(p.controller_for(i), v) {
+        Some(d) if d < p.robot.rho => d,
+        _ => p.robot.rho.clone(),
+    }
 }
 
 /// The cell as a constraint on the obstacle (its gap is seen from the robot at `seen_at`),
