@@ -153,6 +153,13 @@ impl Add for Rational {
     type Output = Rational;
     fn add(self, other: Rational) -> Rational {
         if let (Rational::Small(a, b), Rational::Small(c, d)) = (&self, &other) {
+            // x + 0 and 0 + x: the searches add empty drifts and zero ends often.
+            if *c == 0 {
+                return self;
+            }
+            if *a == 0 {
+                return other;
+            }
             let sum = if b == d {
                 a.checked_add(*c).map(|n| (n, *b))
             } else if fits64(*a) && fits64(*b) && fits64(*c) && fits64(*d) {

@@ -45,6 +45,8 @@ pub struct Chain {
     head: Rc<Link>,
     w_max: Rational,
     dt: Rational,
+    /// W_i·dt: the most X falls in one step (kept: every pass needs it).
+    fall: Rational,
 }
 
 /// A point of a pass: a step with its constraints.
@@ -66,6 +68,7 @@ impl Chain {
                 reach: start,
                 prev: None,
             }),
+            fall: w_max.clone() * dt.clone(),
             w_max,
             dt,
         }
@@ -81,10 +84,16 @@ impl Chain {
         Interval::closed(Rational::zero(), self.w_max.clone())
     }
 
-    /// How far X may fall over `steps` unconstrained steps.
+    /// How far X may fall over `steps` unconstrained steps: [0, W_i·dt·steps].
     fn drift(&self, steps: usize) -> Interval {
-        self.speeds()
-            .scaled(&(self.dt.clone() * Rational::int(steps as i64)))
+        match steps {
+            0 => Interval::point(Rational::zero()),
+            1 => Interval::closed(Rational::zero(), self.fall.clone()),
+            _ => Interval::closed(
+                Rational::zero(),
+                self.fall.clone() * Rational::int(steps as i64),
+            ),
+        }
     }
 
     /// The last constrained step.
@@ -151,6 +160,7 @@ impl Chain {
             }),
             w_max: self.w_max.clone(),
             dt: self.dt.clone(),
+            fall: self.fall.clone(),
         })
     }
 
@@ -225,12 +235,20 @@ impl Chain {
     /// X(m) over every behaviour that meets the chain and `extra`: exact. Empty when they
     /// cannot all be met.
     pub fn marginal(&self, m: usize, extra: &[Extra]) -> Interval {
-        let points = self.points(extra, &[m]);
+        let [x] = self.marginals([m], extra);
+        x
+    }
+
+    /// [`Self::marginal`] at several steps, from one pair of passes.
+    pub fn marginals<const Q: usize>(&self, ms: [usize; Q], extra: &[Extra]) -> [Interval; Q] {
+        let points = self.points(extra, &ms);
         let (forward, backward) = self.passes(&points);
-        let j = points
-            .binary_search_by_key(&m, |p| p.step)
-            .expect("the query is a point");
-        forward[j].intersect(&backward[j])
+        ms.map(|m| {
+            let j = points
+                .binary_search_by_key(&m, |p| p.step)
+                .expect("the query is a point");
+            forward[j].intersect(&backward[j])
+        })
     }
 
     /// A behaviour that meets the chain and `extra`: X(0) and the speeds w_0 … w_{s−1} up to

@@ -241,22 +241,23 @@ pub fn worst(
         }];
         let mut candidates: Vec<Worst> = Vec::new();
         // Ahead: the gap where the moving instants end.
-        if !chain.marginal(interval.start, &ahead).is_empty() {
-            let exit = interval
-                .end
-                .map(|e| (dt.clone() * Rational::int(e as i64), e));
-            let end = match (&exit, &motion.rest) {
-                (Some((te, e)), Some((tr, r))) => Some(if te <= tr {
-                    (*e, Rational::zero())
-                } else {
-                    (*r, tr.clone() - dt.clone() * Rational::int(*r as i64))
-                }),
-                (Some((_, e)), None) => Some((*e, Rational::zero())),
-                (None, Some((tr, r))) => {
-                    Some((*r, tr.clone() - dt.clone() * Rational::int(*r as i64)))
-                }
-                (None, None) => None,
-            };
+        let exit = interval
+            .end
+            .map(|e| (dt.clone() * Rational::int(e as i64), e));
+        let end = match (&exit, &motion.rest) {
+            (Some((te, e)), Some((tr, r))) => Some(if te <= tr {
+                (*e, Rational::zero())
+            } else {
+                (*r, tr.clone() - dt.clone() * Rational::int(*r as i64))
+            }),
+            (Some((_, e)), None) => Some((*e, Rational::zero())),
+            (None, Some((tr, r))) => Some((*r, tr.clone() - dt.clone() * Rational::int(*r as i64))),
+            (None, None) => None,
+        };
+        // The marginals at the start and where the moving instants end, in one pass.
+        let end_step = end.as_ref().map_or(interval.start, |(step, _)| *step);
+        let [at_start_ahead, at_end] = chain.marginals([interval.start, end_step], &ahead);
+        if !at_start_ahead.is_empty() {
             match end {
                 None => candidates.push(Worst {
                     value: None,
@@ -265,7 +266,7 @@ pub fn worst(
                     },
                 }),
                 Some((step, into)) => {
-                    let x = chain.marginal(step, &ahead);
+                    let x = at_end;
                     let low = x.lo.expect("positions are bounded").at - w.clone() * into.clone();
                     let robot = if into == Rational::zero() {
                         motion.position(p, profile, step)

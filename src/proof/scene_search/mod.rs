@@ -27,6 +27,8 @@ pub mod leaf;
 pub mod sense;
 pub mod tree;
 
+use std::collections::HashMap;
+
 use crate::core::num::Scalar;
 use crate::core::rational::Rational;
 use crate::core::scene::Scene;
@@ -96,10 +98,18 @@ pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
     let mut profile = Profile::new(&p);
     let mut per: Vec<Option<Worst>> = vec![None; p.obstacles.len()];
     let mut overall: Option<WorstRun> = None;
+    // The robot's motion depends only on the brake step, which many runs share.
+    let mut motions: HashMap<Option<usize>, Motion> = HashMap::new();
     let stats = walk(&p, &mut profile, horizon, NODE_BUDGET, |leaf, profile| {
-        let motion = Motion::of(&p, profile, &leaf.ending);
+        let brake = match leaf.ending {
+            tree::Ending::Brake { step, .. } => Some(step),
+            tree::Ending::Forever { .. } => None,
+        };
+        let motion = motions
+            .entry(brake)
+            .or_insert_with(|| Motion::of(&p, profile, &leaf.ending));
         for (i, slot) in per.iter_mut().enumerate() {
-            let Some(w) = worst(&p, profile, leaf, &motion, i) else {
+            let Some(w) = worst(&p, profile, leaf, motion, i) else {
                 continue;
             };
             if overall.as_ref().is_none_or(|o| w.below(&o.worst)) {
