@@ -87,8 +87,17 @@ impl Certificate {
 }
 
 impl SceneCertificate {
-    /// The certificate of a scene analysis.
+    /// The certificate of a scene analysis, its witness without rows per period.
     pub fn from_analysis(a: &SceneAnalysis) -> Self {
+        Self::of_scene_analysis(a, false)
+    }
+
+    /// The certificate with the witness's rows per period (`certify --steps`).
+    pub fn from_analysis_with_steps(a: &SceneAnalysis) -> Self {
+        Self::of_scene_analysis(a, true)
+    }
+
+    fn of_scene_analysis(a: &SceneAnalysis, steps: bool) -> Self {
         let obstacles = a
             .obstacles
             .iter()
@@ -112,7 +121,12 @@ impl SceneCertificate {
             lower_bound,
             clearance: a.scene.robot.clearance,
             premises: scene_premises(&a.scene),
-            witness: a.witness.clone(),
+            witness: a.witness.clone().map(|mut w| {
+                if !steps {
+                    w.steps.clear();
+                }
+                w
+            }),
             scene: a.scene.clone(),
             obstacles,
             programs_solved: a.programs_solved,

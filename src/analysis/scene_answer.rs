@@ -9,33 +9,51 @@ use crate::core::scene::Scene;
 use crate::proof::certificate_file::CertificateFile;
 use crate::proof::scene_certificate::SceneCertificate;
 use crate::proof::scene_schedule::SceneDecomposition;
-use crate::proof::search_certificate::{SearchCertificate, certify_by_search};
+use crate::proof::search_certificate::{
+    SearchCertificate, certify_by_search, certify_by_search_with_steps,
+};
 use crate::proof::verdict::Verdict;
 
 /// A scene's answer.
 #[derive(Clone, Debug)]
 pub enum SceneAnswer {
-    /// From the schedule analyser.
-    Schedule(Box<SceneAnalysis>),
+    /// From the schedule analyser; the flag: its certificate keeps the witness's rows.
+    Schedule(Box<SceneAnalysis>, bool),
     /// From the run search (lane changes, position ranges).
     Search(Box<SearchCertificate>),
 }
 
 impl SceneAnswer {
-    /// Decides a (validated) scene with the engine that covers it.
+    /// Decides a (validated) scene with the engine that covers it; the certificate's
+    /// witness has no rows per period.
     pub fn of(scene: &Scene) -> Result<SceneAnswer, SceneAnalysisError> {
+        Self::deciding(scene, false)
+    }
+
+    /// [`Self::of`] with the witness's rows per period in the certificate (`--steps`).
+    pub fn of_with_steps(scene: &Scene) -> Result<SceneAnswer, SceneAnalysisError> {
+        Self::deciding(scene, true)
+    }
+
+    fn deciding(scene: &Scene, steps: bool) -> Result<SceneAnswer, SceneAnalysisError> {
         if SceneDecomposition::decides(scene).is_ok() {
-            return Ok(SceneAnswer::Schedule(Box::new(analyse_scene(scene)?)));
+            return Ok(SceneAnswer::Schedule(
+                Box::new(analyse_scene(scene)?),
+                steps,
+            ));
         }
-        let cert =
-            certify_by_search(scene).map_err(|e| SceneAnalysisError::Search(e.to_string()))?;
+        let certify = match steps {
+            true => certify_by_search_with_steps,
+            false => certify_by_search,
+        };
+        let cert = certify(scene).map_err(|e| SceneAnalysisError::Search(e.to_string()))?;
         Ok(SceneAnswer::Search(Box::new(cert)))
     }
 
     /// The scene answered.
     pub fn scene(&self) -> &Scene {
         match self {
-            SceneAnswer::Schedule(a) => &a.scene,
+            SceneAnswer::Schedule(a, _) => &a.scene,
             SceneAnswer::Search(c) => &c.scene,
         }
     }
@@ -43,7 +61,7 @@ impl SceneAnswer {
     /// The verdict.
     pub fn verdict(&self) -> Verdict {
         match self {
-            SceneAnswer::Schedule(a) => a.verdict,
+            SceneAnswer::Schedule(a, _) => a.verdict,
             SceneAnswer::Search(c) => c.verdict,
         }
     }
@@ -51,7 +69,7 @@ impl SceneAnswer {
     /// s* (None: −∞, or nothing measured, or not realised).
     pub fn min_separation(&self) -> Option<f64> {
         match self {
-            SceneAnswer::Schedule(a) => a.min_separation,
+            SceneAnswer::Schedule(a, _) => a.min_separation,
             SceneAnswer::Search(c) => c.min_separation,
         }
     }
@@ -59,7 +77,7 @@ impl SceneAnswer {
     /// s* = −∞.
     pub fn never_stops(&self) -> bool {
         match self {
-            SceneAnswer::Schedule(a) => a.never_stops,
+            SceneAnswer::Schedule(a, _) => a.never_stops,
             SceneAnswer::Search(c) => c.never_stops,
         }
     }
@@ -67,7 +85,7 @@ impl SceneAnswer {
     /// The rigorous lower bound, rounded down.
     pub fn lower_bound(&self) -> Option<f64> {
         match self {
-            SceneAnswer::Schedule(a) => a.lower_bound.as_ref().map(f64_at_most),
+            SceneAnswer::Schedule(a, _) => a.lower_bound.as_ref().map(f64_at_most),
             SceneAnswer::Search(c) => c.lower_bound,
         }
     }
@@ -75,7 +93,7 @@ impl SceneAnswer {
     /// Pieces proved (schedule) or runs searched.
     pub fn cases(&self) -> usize {
         match self {
-            SceneAnswer::Schedule(a) => a
+            SceneAnswer::Schedule(a, _) => a
                 .obstacles
                 .iter()
                 .map(|o| o.own.len() + o.bystanders.len())
@@ -87,7 +105,7 @@ impl SceneAnswer {
     /// Linear programs solved (none for the search).
     pub fn programs(&self) -> usize {
         match self {
-            SceneAnswer::Schedule(a) => a.programs_solved,
+            SceneAnswer::Schedule(a, _) => a.programs_solved,
             SceneAnswer::Search(_) => 0,
         }
     }
@@ -95,16 +113,19 @@ impl SceneAnswer {
     /// The worst case in words.
     pub fn worst_case(&self) -> Option<SceneWorstCase> {
         match self {
-            SceneAnswer::Schedule(a) => SceneWorstCase::of_analysis(a),
+            SceneAnswer::Schedule(a, _) => SceneWorstCase::of_analysis(a),
             SceneAnswer::Search(c) => SceneWorstCase::of_search(c),
         }
     }
 
-    /// Its certificate.
+    /// Its certificate (the witness's rows per period as the answer was asked for).
     pub fn certificate(&self) -> CertificateFile {
         match self {
-            SceneAnswer::Schedule(a) => {
+            SceneAnswer::Schedule(a, false) => {
                 CertificateFile::Scene(Box::new(SceneCertificate::from_analysis(a)))
+            }
+            SceneAnswer::Schedule(a, true) => {
+                CertificateFile::Scene(Box::new(SceneCertificate::from_analysis_with_steps(a)))
             }
             SceneAnswer::Search(c) => CertificateFile::Search(c.clone()),
         }

@@ -35,7 +35,7 @@ pub struct CertifyArgs {
     pub(super) out: Option<PathBuf>,
     /// Also store the witness's state at every control period (`witness.steps`); without
     /// it the witness is its speed and mode segments, whose size does not grow with the
-    /// horizon. (Scene certificates always keep their rows.)
+    /// horizon (a scene's witness keeps its speeds per period for now).
     #[arg(long)]
     steps: bool,
 }
@@ -44,7 +44,9 @@ pub struct CertifyArgs {
 pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
     let problem = match input::problem_or_scene(&args.problem, &args.sets)? {
         Input::Problem(p) => p,
-        Input::Scene(scene) => return scene_certify::run(&scene, &args.out, args.json, out),
+        Input::Scene(scene) => {
+            return scene_certify::run(&scene, &args.out, args.json, args.steps, out);
+        }
     };
     let analysis = analysis::analyse(&problem).context("analysis failed")?;
     let cert = if args.steps {

@@ -27,9 +27,14 @@ pub fn run(
     scene: &Scene,
     out_path: &Option<PathBuf>,
     json: bool,
+    steps: bool,
     out: &mut Output,
 ) -> Result<Exit> {
-    let answer = SceneAnswer::of(scene).map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
+    let answer = match steps {
+        true => SceneAnswer::of_with_steps(scene),
+        false => SceneAnswer::of(scene),
+    }
+    .map_err(|e| anyhow::anyhow!("{}: {e}", scene.name))?;
     let cert = answer.certificate();
     cert.check()
         .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
@@ -41,7 +46,7 @@ pub fn run(
         write!(out, "{text}")?;
     } else {
         match &cert {
-            CertificateFile::Scene(c) => write!(out, "{}", summary(c))?,
+            CertificateFile::Scene(c) => write!(out, "{}", summary(c, brake_time(&answer)))?,
             CertificateFile::Search(c) => write!(out, "{}", search_summary(c))?,
             CertificateFile::Single(_) => unreachable!("a scene's answer is a scene certificate"),
         }
@@ -49,8 +54,22 @@ pub fn run(
     Ok(cert.verdict().into())
 }
 
-/// The human-readable answer (numbers as [`super::certify`] shows them).
-fn summary(cert: &SceneCertificate) -> String {
+/// When the schedule analyser's witness brakes (s), from its exact replay: the
+/// certificate keeps the rows only with `--steps`.
+fn brake_time(answer: &SceneAnswer) -> Option<f64> {
+    let SceneAnswer::Schedule(a, _) = answer else {
+        return None;
+    };
+    let w = a.witness.as_ref()?;
+    w.steps
+        .iter()
+        .find(|r| r.row.robot_mode == Mode::Brake)
+        .map(|r| r.row.t)
+}
+
+/// The human-readable answer (numbers as [`super::certify`] shows them), with when the
+/// witness's robot brakes (s).
+fn summary(cert: &SceneCertificate, brake_at: Option<f64>) -> String {
     let scene = &cert.scene;
     let mut s = format!("{}: {}\n", scene.name, cert.verdict.as_str());
     let witness_sep = cert.witness.as_ref().and_then(|w| w.separation);
@@ -69,11 +88,8 @@ fn summary(cert: &SceneCertificate) -> String {
     s += &lower_bound_text(cert.lower_bound, cert.clearance);
     if let Some(w) = &cert.witness {
         let worst = SceneWorstCase::from_witness(scene, w);
-        let brake = w
-            .steps
-            .iter()
-            .find(|r| r.row.robot_mode == Mode::Brake)
-            .map(|r| format!(", robot brakes at t = {} s", value(r.row.t)))
+        let brake = brake_at
+            .map(|t| format!(", robot brakes at t = {} s", value(t)))
             .unwrap_or_default();
         s += &format!(
             "  {}: {}{brake}; {}\n",

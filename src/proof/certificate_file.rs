@@ -21,9 +21,9 @@ pub use crate::proof::certificate::Certificate;
 pub enum CertificateFile {
     /// One obstacle in the robot's lane (`safereach-certificate/3`).
     Single(Box<Certificate>),
-    /// A scene (`safereach-scene-certificate/3`).
+    /// A scene (`safereach-scene-certificate/4`).
     Scene(Box<SceneCertificate>),
-    /// A scene decided by the run search (`safereach-scene-search-certificate/2`).
+    /// A scene decided by the run search (`safereach-scene-search-certificate/3`).
     Search(Box<SearchCertificate>),
 }
 

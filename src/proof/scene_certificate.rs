@@ -18,7 +18,7 @@ use crate::proof::schedule::Piece;
 use crate::proof::verdict::Verdict;
 
 /// The format tag written into every scene certificate.
-pub const SCENE_FORMAT: &str = "safereach-scene-certificate/3";
+pub const SCENE_FORMAT: &str = "safereach-scene-certificate/4";
 
 /// The proofs for one obstacle of the robot's lane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -74,7 +74,10 @@ pub struct SceneWitness {
     pub collides: bool,
     /// The obstacle's replayed separation, rounded down (null: it never stopped).
     pub separation: Option<f64>,
-    /// The replayed trace: one row per obstacle per instant.
+    /// The replayed trace, one row per obstacle per instant: only with `certify --steps`
+    /// (it grows with the horizon; `check` replays the speeds either way and compares the
+    /// rows when they are present).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<SceneTraceRow>,
 }
 

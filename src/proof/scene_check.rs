@@ -260,9 +260,7 @@ fn check_witness(cert: &SceneCertificate, w: &SceneWitness) -> Result<bool, Inva
     if replay.periods() != periods {
         return invalid("witness lists speeds past the end of its run");
     }
-    let steps = replay.trace();
-    let same = same_scene_trace(&steps, &w.steps);
-    if !same {
+    if !w.steps.is_empty() && !same_scene_trace(&replay.trace(), &w.steps) {
         return invalid("witness trace differs from its exact replay");
     }
     if replay.collided() != w.collides {

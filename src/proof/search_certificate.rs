@@ -26,7 +26,7 @@ use crate::proof::separation::SEPARATION_TOLERANCE;
 use crate::proof::verdict::Verdict;
 
 /// The format tag written into every search certificate.
-pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/2";
+pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/3";
 
 /// One obstacle's worst case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -81,7 +81,10 @@ pub struct RunWitness {
     pub collides: bool,
     /// The obstacle's replayed separation, rounded down (null: −∞ or not measured).
     pub separation: Option<f64>,
-    /// The replayed trace: one row per obstacle per instant.
+    /// The replayed trace, one row per obstacle per instant: only with `certify --steps`
+    /// (it grows with the horizon; `check` replays the speeds either way and compares the
+    /// rows when they are present).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<SceneTraceRow>,
 }
 
@@ -188,13 +191,23 @@ pub fn obstacle_separations(scene: &Scene, search: &SceneSearch) -> Vec<Obstacle
         .collect()
 }
 
-/// Searches a (validated) scene and writes its certificate.
+/// Searches a (validated) scene and writes its certificate (the witness without rows per
+/// period).
 pub fn certify_by_search(scene: &Scene) -> Result<SearchCertificate, SearchError> {
+    certify_search(scene, false)
+}
+
+/// [`certify_by_search`] with the witness's rows per period (`certify --steps`).
+pub fn certify_by_search_with_steps(scene: &Scene) -> Result<SearchCertificate, SearchError> {
+    certify_search(scene, true)
+}
+
+fn certify_search(scene: &Scene, steps: bool) -> Result<SearchCertificate, SearchError> {
     let search = search_scene(scene)?;
     let clearance = Rational::from_exact(&<Exact as Scalar>::decimal(scene.robot.clearance));
     let star = search.min_separation().cloned();
     let never_stops = search.unbounded();
-    let witness = witness(scene, &search, star.as_ref(), &clearance);
+    let witness = witness(scene, &search, star.as_ref(), &clearance, steps);
     let certified = !never_stops && star.as_ref().is_none_or(|s| *s > clearance);
     let collides = witness.as_ref().is_some_and(|w| w.collides);
     if certified && collides {
@@ -236,6 +249,7 @@ fn witness(
     search: &SceneSearch,
     star: Option<&Rational>,
     clearance: &Rational,
+    steps: bool,
 ) -> Option<RunWitness> {
     let run = search.worst.as_ref()?;
     // Close enough to s* to fall below the clearance when s* does; otherwise a nanometre.
@@ -276,6 +290,7 @@ fn witness(
         (shown_from, errors),
         max_steps,
         star.is_none(),
+        steps,
     ))
 }
 
@@ -292,8 +307,9 @@ pub fn witness_starts(scene: &Scene, starts: &[Option<Exact>]) -> Vec<Exact> {
 
 /// Replays exact speeds (W_i after the last) from starts, with `observations` (the
 /// witness's `shown_from` and `observation_errors`), up to `max_steps`, into a witness for
-/// obstacle `obstacle`.
-pub fn replay_witness(
+/// obstacle `obstacle`, with its rows per period when `steps`.
+#[allow(clippy::too_many_arguments)] // One caller; each argument is one field of the witness.
+fn replay_witness(
     scene: &Scene,
     obstacle: usize,
     starts: &[Option<Exact>],
@@ -301,6 +317,7 @@ pub fn replay_witness(
     observations: (Vec<Option<usize>>, Vec<ObservationError>),
     max_steps: usize,
     stop_at_collision: bool,
+    steps: bool,
 ) -> RunWitness {
     let params: SceneParams<Exact> = scene.params();
     for (s, o) in speeds.iter_mut().zip(&params.obstacles) {
@@ -343,6 +360,6 @@ pub fn replay_witness(
         brake: replay.run.outcome.brake,
         collides: replay.collided(),
         separation: replay.separations()[obstacle].as_ref().map(f64_at_most),
-        steps: replay.trace(),
+        steps: if steps { replay.trace() } else { Vec::new() },
     }
 }

@@ -257,3 +257,65 @@ fn scene_max_speed_matches_the_single_obstacle_max_speed() {
         "{found} vs {single}"
     );
 }
+
+/// A scene's certificate keeps the witness's rows per period only with `--steps`, for both
+/// engines (the schedule analyser and the run search): without them the file is smaller and
+/// `check` replays the speeds all the same; with them every row is compared with the
+/// replay, so an edited row is rejected even under a fresh digest.
+#[test]
+fn scene_witness_rows_only_with_steps() {
+    let dir = tmp();
+    for (name, obstacles) in [("scene-oncoming.toml", 4), ("seed-lanes.toml", 3)] {
+        let certify = |steps: bool| {
+            let mut cmd = safereach(dir.path());
+            cmd.arg("certify").arg(problem_file(name)).arg("--json");
+            if steps {
+                cmd.arg("--steps");
+            }
+            let text = stdout(&cmd.assert().code(0).get_output().clone());
+            let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+            (text, value)
+        };
+        let (lean_text, lean) = certify(false);
+        let (full_text, full) = certify(true);
+        assert!(lean["witness"].get("steps").is_none(), "{name}");
+        let rows = full["witness"]["steps"]
+            .as_array()
+            .expect("rows with --steps");
+        // One row per obstacle per instant, past the brake.
+        assert_eq!(rows.len() % obstacles, 0, "{name}");
+        assert!(rows.len() / obstacles > 100, "{name}: {} rows", rows.len());
+        assert!(lean_text.len() * 3 < full_text.len(), "{name}");
+        // The same answer and witness otherwise.
+        let strip = |v: &serde_json::Value| {
+            let mut v = v.clone();
+            v["witness"].as_object_mut().unwrap().remove("steps");
+            v.as_object_mut().unwrap().remove("digest");
+            v
+        };
+        assert_eq!(strip(&lean), strip(&full), "{name}");
+        for text in [&lean_text, &full_text] {
+            let file = CertificateFile::from_json(text).unwrap();
+            assert_eq!(file.check().unwrap().verdict, Verdict::Certified, "{name}");
+        }
+        // An edited row, digest recomputed: rejected by the replay.
+        let mut forged = CertificateFile::from_json(&full_text).unwrap();
+        match &mut forged {
+            CertificateFile::Scene(c) => {
+                let w = c.witness.as_mut().unwrap();
+                let k = w.steps.len() / 2;
+                w.steps[k].row.robot_position += 1e-3;
+                c.digest = c.compute_digest();
+            }
+            CertificateFile::Search(c) => {
+                let w = c.witness.as_mut().unwrap();
+                let k = w.steps.len() / 2;
+                w.steps[k].row.robot_position += 1e-3;
+                c.digest = c.compute_digest();
+            }
+            CertificateFile::Single(_) => unreachable!("a scene"),
+        }
+        let e = forged.check().expect_err("an edited row");
+        assert!(e.0.contains("trace differs"), "{name}: {e}");
+    }
+}

@@ -21,8 +21,8 @@ pub struct Fixture {
     pub problem: &'static str,
     pub sets: &'static [&'static str],
     pub kind: Kind,
-    /// `certify --steps`: the witness keeps its per-period rows (the seed's does, so the
-    /// lean tests check both forms and the monitor tests replay its rows).
+    /// `certify --steps`: the witness keeps its per-period rows (the seed's and the short
+    /// sensing scene's do, so the tests check both forms and the monitor tests replay rows).
     pub steps: bool,
 }
 
@@ -94,7 +94,7 @@ pub const FIXTURES: &[Fixture] = &[
         problem: "scene-short-sensing.toml",
         sets: &[],
         kind: Kind::SceneCertificate(Verdict::Refuted),
-        steps: false,
+        steps: true,
     },
 ];
 
