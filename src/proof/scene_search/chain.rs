@@ -43,6 +43,13 @@ pub struct Extra {
 #[derive(Clone, Debug)]
 pub struct Chain {
     head: Rc<Link>,
+    motion: Rc<Motion>,
+}
+
+/// How an obstacle may move, shared by every chain of it (a search clones chains per
+/// child, so they hold it by reference).
+#[derive(Debug)]
+struct Motion {
     w_max: Rational,
     dt: Rational,
     /// W_i·dt: the most X falls in one step (kept: every pass needs it).
@@ -68,30 +75,32 @@ impl Chain {
                 reach: start,
                 prev: None,
             }),
-            fall: w_max.clone() * dt.clone(),
-            w_max,
-            dt,
+            motion: Rc::new(Motion {
+                fall: w_max.clone() * dt.clone(),
+                w_max,
+                dt,
+            }),
         }
     }
 
     /// W_i.
     pub fn w_max(&self) -> &Rational {
-        &self.w_max
+        &self.motion.w_max
     }
 
     /// Speeds the obstacle may hold.
     fn speeds(&self) -> Interval {
-        Interval::closed(Rational::zero(), self.w_max.clone())
+        Interval::closed(Rational::zero(), self.motion.w_max.clone())
     }
 
     /// How far X may fall over `steps` unconstrained steps: [0, W_i·dt·steps].
     fn drift(&self, steps: usize) -> Interval {
         match steps {
             0 => Interval::point(Rational::zero()),
-            1 => Interval::closed(Rational::zero(), self.fall.clone()),
+            1 => Interval::closed(Rational::zero(), self.motion.fall.clone()),
             _ => Interval::closed(
                 Rational::zero(),
-                self.fall.clone() * Rational::int(steps as i64),
+                self.motion.fall.clone() * Rational::int(steps as i64),
             ),
         }
     }
@@ -137,7 +146,7 @@ impl Chain {
             Some(b) => b
                 .reach
                 .minus(&self.drift(n - 1 - b.step))
-                .minus(&speed.scaled(&self.dt))
+                .minus(&speed.scaled(&self.motion.dt))
                 .intersect(&position),
             None => position.clone(),
         };
@@ -158,9 +167,7 @@ impl Chain {
                 reach,
                 prev: base,
             }),
-            w_max: self.w_max.clone(),
-            dt: self.dt.clone(),
-            fall: self.fall.clone(),
+            motion: self.motion.clone(),
         })
     }
 
@@ -203,17 +210,16 @@ impl Chain {
     /// Forward and backward passes over `points`: (reach given earlier constraints,
     /// feasible given later ones), both including the point's own constraint.
     fn passes(&self, points: &[Point]) -> (Vec<Interval>, Vec<Interval>) {
-        let speeds = self.speeds();
+        let falls: Vec<Interval> = points
+            .windows(2)
+            .map(|w| self.fall_between(&w[0], &w[1]))
+            .collect();
         let mut forward: Vec<Interval> = Vec::with_capacity(points.len());
         for (j, p) in points.iter().enumerate() {
             let f = if j == 0 {
                 p.position.clone()
             } else {
-                let prev = &points[j - 1];
-                forward[j - 1]
-                    .minus(&self.drift(p.step - 1 - prev.step))
-                    .minus(&p.speed.intersect(&speeds).scaled(&self.dt))
-                    .intersect(&p.position)
+                forward[j - 1].minus(&falls[j - 1]).intersect(&p.position)
             };
             forward.push(f);
         }
@@ -222,14 +228,24 @@ impl Chain {
             backward[j] = if j + 1 == points.len() {
                 points[j].position.clone()
             } else {
-                let next = &points[j + 1];
                 backward[j + 1]
-                    .plus(&self.drift(next.step - 1 - points[j].step))
-                    .plus(&next.speed.intersect(&speeds).scaled(&self.dt))
+                    .plus(&falls[j])
                     .intersect(&points[j].position)
             };
         }
         (forward, backward)
+    }
+
+    /// X(a.step) − X(b.step): the free steps' drift plus the last step's seen speed.
+    fn fall_between(&self, a: &Point, b: &Point) -> Interval {
+        let free = b.step - 1 - a.step;
+        let speeds = self.speeds();
+        if b.speed == Interval::all() || b.speed == speeds {
+            // No speed seen: one more free step.
+            return self.drift(free + 1);
+        }
+        self.drift(free)
+            .plus(&b.speed.intersect(&speeds).scaled(&self.motion.dt))
     }
 
     /// X(m) over every behaviour that meets the chain and `extra`: exact. Empty when they
@@ -241,6 +257,10 @@ impl Chain {
 
     /// [`Self::marginal`] at several steps, from one pair of passes.
     pub fn marginals<const Q: usize>(&self, ms: [usize; Q], extra: &[Extra]) -> [Interval; Q] {
+        if self.motion.w_max == Rational::zero() {
+            let x = self.standing(extra);
+            return ms.map(|_| x.clone());
+        }
         let points = self.points(extra, &ms);
         let (forward, backward) = self.passes(&points);
         ms.map(|m| {
@@ -249,6 +269,26 @@ impl Chain {
                 .expect("the query is a point");
             forward[j].intersect(&backward[j])
         })
+    }
+
+    /// The one position of an obstacle that cannot move (W_i = 0) that meets every
+    /// constraint: the passes' answer at every step, without them (its seats are static
+    /// obstacles, most of a scene's).
+    fn standing(&self, extra: &[Extra]) -> Interval {
+        let mut x = Interval::all();
+        let mut link = Some(&self.head);
+        while let Some(l) = link {
+            if l.speed.is_empty() {
+                // A seen speed it cannot have.
+                return Interval::closed(Rational::int(1), Rational::zero());
+            }
+            x = x.intersect(&l.position);
+            link = l.prev.as_ref();
+        }
+        for e in extra {
+            x = x.intersect(&e.position);
+        }
+        x
     }
 
     /// A behaviour that meets the chain and `extra`: X(0) and the speeds w_0 … w_{s−1} up to
@@ -269,13 +309,13 @@ impl Chain {
             let from = Interval::point(xs[j - 1].clone());
             let here = from
                 .minus(&self.drift(gap))
-                .minus(&last_speed.scaled(&self.dt))
+                .minus(&last_speed.scaled(&self.motion.dt))
                 .intersect(&p.position)
                 .intersect(&backward[j]);
             let x = here.inner_point()?;
             // Split the fall into the constrained last speed and equal free ones.
-            let fall = (xs[j - 1].clone() - x.clone()) / self.dt.clone();
-            let free_max = self.w_max.clone() * Rational::int(gap as i64);
+            let fall = (xs[j - 1].clone() - x.clone()) / self.motion.dt.clone();
+            let free_max = self.motion.w_max.clone() * Rational::int(gap as i64);
             let last = Interval::closed(fall.clone() - free_max, fall.clone())
                 .intersect(&last_speed)
                 .inner_point()?;
@@ -359,6 +399,49 @@ mod tests {
             }
         }
         assert!(x <= r(6, 1));
+    }
+
+    /// An obstacle that cannot move: the shortcut gives what the passes give, at every
+    /// step, with extras, and nothing when a seen speed excludes standing still.
+    #[test]
+    fn a_standing_obstacle_is_where_every_constraint_puts_it() {
+        let start = Interval::closed(r(4, 1), r(9, 1));
+        let c = Chain::new(start, Rational::zero(), r(1, 10));
+        let c = c
+            .constrain(3, &above(r(5, 1)), &Interval::all())
+            .unwrap()
+            .constrain(7, &below(r(8, 1)), &Interval::closed(r(0, 1), r(1, 1)))
+            .unwrap();
+        let extras = [
+            vec![],
+            vec![Extra {
+                step: 5,
+                position: below(r(6, 1)),
+            }],
+            vec![Extra {
+                step: 9,
+                position: above(r(7, 1)),
+            }],
+        ];
+        for extra in &extras {
+            let points = c.points(extra, &[0, 5, 9]);
+            let (f, b) = c.passes(&points);
+            for m in [0, 5, 9] {
+                let j = points.binary_search_by_key(&m, |p| p.step).unwrap();
+                assert_eq!(c.marginal(m, extra), f[j].intersect(&b[j]), "step {m}");
+            }
+        }
+        assert_eq!(
+            c.marginal(5, &extras[1]),
+            Interval {
+                lo: Some(End::open(r(5, 1))),
+                hi: Some(End::closed(r(6, 1))),
+            }
+        );
+        // Seen moving: either refused at once or nothing left.
+        if let Some(moving) = c.constrain(8, &Interval::all(), &above(r(1, 100))) {
+            assert!(moving.marginal(8, &[]).is_empty());
+        }
     }
 
     /// Impossible constraints leave nothing; implied "still far" rows do not pile up.

@@ -822,13 +822,12 @@ fn quiet_until(
             let fall = chain.w_max().clone()
                 * p.robot.dt.clone()
                 * Rational::int((n - chain.last_step()) as i64);
-            let reach = match guarded {
-                true => fires_within(p, i, &profile.at(p, n + l).speed),
-                false => p.robot.rho.clone(),
-            };
             // Some error shows it within θ_n iff its true gap is ≤ θ_n + σ_g.
-            lowest.clone() - fall - profile.at(p, n).position.clone()
-                <= reach + sense.sigma_g.clone()
+            let gap =
+                lowest.clone() - fall - profile.at(p, n).position.clone() - sense.sigma_g.clone();
+            // θ_n ≤ ρ: beyond ρ there is no need to ask for d_i.
+            gap <= p.robot.rho
+                && (!guarded || gap <= fires_within(p, i, &profile.at(p, n + l).speed))
         };
         if near(first, profile) {
             return None;
