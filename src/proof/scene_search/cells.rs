@@ -25,7 +25,7 @@ pub enum Role {
 }
 
 /// The numbers the guards compare one obstacle's observation with at one step.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Thresholds {
     /// ρ.
     pub rho: Rational,

@@ -190,6 +190,7 @@ pub fn walk(
     let goal_step = goal_step(p, profile, horizon);
     let mut stats = TreeStats::default();
     let mut stack = vec![root];
+    let mut known_cells = CellMemo::default();
     while let Some(node) = stack.pop() {
         stats.nodes += 1;
         if stats.nodes > budget {
@@ -253,8 +254,10 @@ pub fn walk(
                         Sight::Hidden { since } => (since, true),
                     };
                     let mut here: Vec<Reachable> = match &base {
-                        Some(base) => cells(role, &th)
-                            .into_iter()
+                        Some(base) => known_cells
+                            .cells(role, &th)
+                            .iter()
+                            .cloned()
                             .filter_map(|cell| {
                                 let far = far_cell(p, &sense, &cell);
                                 let quiet =
@@ -373,6 +376,32 @@ pub fn walk(
         }
     }
     Ok(stats)
+}
+
+/// The cells of the thresholds met so far: they repeat at every step the robot cruises
+/// (the same speed, hence the same danger and lane-change distances), so most steps find
+/// theirs here instead of sorting and labelling the cuts again.
+#[derive(Default)]
+struct CellMemo {
+    known: Vec<(Role, Thresholds, Rc<Vec<Cell>>)>,
+}
+
+impl CellMemo {
+    /// Most threshold sets kept (a scene meets few: one per obstacle kind, lane-change
+    /// state and robot speed while it accelerates).
+    const LIMIT: usize = 64;
+
+    fn cells(&mut self, role: Role, th: &Thresholds) -> Rc<Vec<Cell>> {
+        if let Some((_, _, cs)) = self.known.iter().find(|(r, t, _)| *r == role && t == th) {
+            return cs.clone();
+        }
+        let cs = Rc::new(cells(role, th));
+        if self.known.len() == Self::LIMIT {
+            self.known.remove(0);
+        }
+        self.known.push((role, th.clone(), cs.clone()));
+        cs
+    }
 }
 
 /// One cell an obstacle can be shown in (or, with occlusion, hidden): its representative
