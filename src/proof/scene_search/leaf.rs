@@ -127,9 +127,68 @@ pub struct Motion {
     pub rest: Option<(Rational, usize)>,
 }
 
+/// Braking to rest from a speed, from position 0: the states at the step starts after the
+/// brake step, and the rest as (seconds after the brake step's start, steps after it). A
+/// braking step moves the robot by an amount its position does not enter, so braking from
+/// x is this curve shifted by x, exactly.
+#[derive(Clone, Debug)]
+pub struct BrakeCurve {
+    speed: Rational,
+    states: Vec<RobotState<Rational>>,
+    rest: (Rational, usize),
+}
+
+impl BrakeCurve {
+    fn from_speed(p: &SceneParams<Rational>, speed: &Rational) -> BrakeCurve {
+        let dt = p.robot.dt.clone();
+        let mut state = RobotState {
+            position: Rational::zero(),
+            speed: speed.clone(),
+            mode: Mode::Brake,
+        };
+        let mut states = Vec::new();
+        if state.speed <= Rational::zero() {
+            return BrakeCurve {
+                speed: speed.clone(),
+                states,
+                rest: (Rational::zero(), 0),
+            };
+        }
+        let mut j = 0;
+        loop {
+            let m = robot_motion(&p.robot, &state);
+            if m.came_to_rest() {
+                let at = dt.clone() * Rational::int(j as i64) + m.moving_for.clone();
+                return BrakeCurve {
+                    speed: speed.clone(),
+                    states,
+                    rest: (at, j),
+                };
+            }
+            state = m.end;
+            states.push(state.clone());
+            j += 1;
+        }
+    }
+}
+
+/// Brake curves met so far, by the speed they start from (a search brakes from few
+/// speeds: those of the acceleration and the cruise).
+pub type BrakeCurves = Vec<BrakeCurve>;
+
 impl Motion {
     /// The robot's motion in a leaf.
     pub fn of(p: &SceneParams<Rational>, profile: &mut Profile, ending: &Ending) -> Motion {
+        Self::of_with(p, profile, ending, &mut BrakeCurves::new())
+    }
+
+    /// [`Self::of`], taking the braking from `curves` (and keeping new ones there).
+    pub fn of_with(
+        p: &SceneParams<Rational>,
+        profile: &mut Profile,
+        ending: &Ending,
+        curves: &mut BrakeCurves,
+    ) -> Motion {
         let Ending::Brake { step, .. } = ending else {
             return Motion {
                 brake: None,
@@ -137,31 +196,29 @@ impl Motion {
                 rest: None,
             };
         };
-        let mut state = profile.at(p, *step).clone();
-        state.mode = Mode::Brake;
-        let mut braking = Vec::new();
-        let mut k = *step;
-        let dt = p.robot.dt.clone();
-        if state.speed <= Rational::zero() {
-            return Motion {
-                brake: Some(*step),
-                braking,
-                rest: Some((dt * Rational::int(*step as i64), *step)),
-            };
-        }
-        loop {
-            let m = robot_motion(&p.robot, &state);
-            if m.came_to_rest() {
-                let at = dt.clone() * Rational::int(k as i64) + m.moving_for.clone();
-                return Motion {
-                    brake: Some(*step),
-                    braking,
-                    rest: Some((at, k)),
-                };
+        let start = profile.at(p, *step).clone();
+        let curve = match curves.iter().position(|c| c.speed == start.speed) {
+            Some(i) => &curves[i],
+            None => {
+                curves.push(BrakeCurve::from_speed(p, &start.speed));
+                curves.last().expect("just pushed")
             }
-            state = m.end;
-            braking.push(state.clone());
-            k += 1;
+        };
+        let braking = curve
+            .states
+            .iter()
+            .map(|s| RobotState {
+                position: start.position.clone() + s.position.clone(),
+                speed: s.speed.clone(),
+                mode: s.mode,
+            })
+            .collect();
+        let (after, steps) = &curve.rest;
+        let t0 = p.robot.dt.clone() * Rational::int(*step as i64);
+        Motion {
+            brake: Some(*step),
+            braking,
+            rest: Some((t0 + after.clone(), step + steps)),
         }
     }
 
@@ -307,6 +364,57 @@ pub fn worst(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::scene::Scene;
+
+    /// Braking taken from a shared curve is braking stepped from where the robot is, at
+    /// every brake step of the seed's drive profile (accelerating and cruising): the same
+    /// states, the same rest instant and step.
+    #[test]
+    fn a_shared_brake_curve_is_the_braking_from_each_step() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed-lanes.toml"
+        ))
+        .unwrap();
+        let scene = Scene::from_toml_str(&text, "seed-lanes.toml").unwrap();
+        let p: SceneParams<Rational> = scene
+            .params::<crate::core::num::Exact>()
+            .map(Rational::from_exact);
+        let mut profile = Profile::new(&p);
+        let mut curves = BrakeCurves::new();
+        for step in [0, 1, 3, 7, 19, 20, 21, 60, 61, 400] {
+            let ending = Ending::Brake {
+                step,
+                reason: crate::core::semantics::BrakeReason::CollisionDanger,
+            };
+            let shared = Motion::of_with(&p, &mut profile, &ending, &mut curves);
+            // Stepped from the robot's own state.
+            let mut state = profile.at(&p, step).clone();
+            state.mode = Mode::Brake;
+            let mut k = step;
+            let mut braking = Vec::new();
+            let rest = loop {
+                if state.speed <= Rational::zero() {
+                    // At rest already (the robot starts at 0 m/s).
+                    break (p.robot.dt.clone() * Rational::int(k as i64), k);
+                }
+                let m = robot_motion(&p.robot, &state);
+                if m.came_to_rest() {
+                    break (
+                        p.robot.dt.clone() * Rational::int(k as i64) + m.moving_for,
+                        k,
+                    );
+                }
+                state = m.end;
+                braking.push(state.clone());
+                k += 1;
+            };
+            assert_eq!(shared.braking, braking, "step {step}");
+            assert_eq!(shared.rest, Some(rest), "step {step}");
+        }
+        // The cruise is one speed: one curve for every cruising step.
+        assert!(curves.len() < 10, "{} curves", curves.len());
+    }
 
     fn change(step: usize, from: i32, to: i32) -> LaneChangeEvent {
         LaneChangeEvent { step, from, to }

@@ -36,7 +36,7 @@ use crate::core::scene::SceneParams;
 use crate::core::scene::simulate;
 
 use chain::Extra;
-use leaf::{Motion, Objective, Worst, worst};
+use leaf::{BrakeCurves, Motion, Objective, Worst, worst};
 use tree::{Leaf, Profile, TreeError, TreeStats, walk};
 
 /// At most this many step starts are expanded.
@@ -100,6 +100,7 @@ pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
     let mut overall: Option<WorstRun> = None;
     // The robot's motion depends only on the brake step, which many runs share.
     let mut motions: HashMap<Option<usize>, Motion> = HashMap::new();
+    let mut curves = BrakeCurves::new();
     let stats = walk(&p, &mut profile, horizon, NODE_BUDGET, |leaf, profile| {
         let brake = match leaf.ending {
             tree::Ending::Brake { step, .. } => Some(step),
@@ -107,7 +108,7 @@ pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
         };
         let motion = motions
             .entry(brake)
-            .or_insert_with(|| Motion::of(&p, profile, &leaf.ending));
+            .or_insert_with(|| Motion::of_with(&p, profile, &leaf.ending, &mut curves));
         for (i, slot) in per.iter_mut().enumerate() {
             let Some(w) = worst(&p, profile, leaf, motion, i) else {
                 continue;
