@@ -652,3 +652,40 @@ fn an_obstacle_starting_inside_d_det_is_refused() {
         "{err}"
     );
 }
+
+/// Lemma R7 (docs/reductions.md §7): jumping over the steps at which no guard can fire —
+/// nothing within ρ + σ_g, or nothing within min(ρ, d_i) + σ_g of an obstacle that only
+/// danger can make count — changes no obstacle's separation: the search that reads every
+/// step agrees, on random small scenes with noise or occlusion (lane changes on or off) and
+/// on the shipped lane-change scenes, with and without gap noise.
+#[test]
+fn jumping_over_quiet_steps_changes_no_answer() {
+    use safereach::proof::scene_search::{search_scene, search_scene_step_by_step};
+    let mut scenes: Vec<Scene> = Vec::new();
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    for _ in 0..60 {
+        scenes.push(sensing_scene(&mut rng));
+    }
+    for name in ["seed-lanes", "lane-change-saves", "lane-change-refused"] {
+        let path = crate::common::paths::problem_file(&format!("{name}.toml"));
+        let text = std::fs::read_to_string(path).expect("a shipped scene");
+        for extra in ["", "\n[sensing]\ngap_noise = 0.03\n"] {
+            let scene = Scene::from_toml_str(&format!("{text}{extra}"), name).expect("reads");
+            scenes.push(scene);
+        }
+    }
+    let mut jumped = 0;
+    for scene in &scenes {
+        let name = scene.to_toml_string();
+        let fast = search_scene(scene).expect("searched");
+        let slow = search_scene_step_by_step(scene).expect("searched step by step");
+        assert_eq!(fast.obstacles, slow.obstacles, "{name}");
+        assert_eq!(fast.min_separation(), slow.min_separation(), "{name}");
+        jumped += usize::from(fast.stats.nodes < slow.stats.nodes);
+    }
+    assert!(
+        jumped >= 40,
+        "only {jumped} of {} searches jumped",
+        scenes.len()
+    );
+}

@@ -91,6 +91,16 @@ impl SceneSearch {
 
 /// Searches every run of a (validated) scene.
 pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
+    search(scene, true)
+}
+
+/// [`search_scene`] reading every step, without jumping over quiet ones (Lemma R7): the
+/// same answers, slower. For tests of the lemma.
+pub fn search_scene_step_by_step(scene: &Scene) -> Result<SceneSearch, TreeError> {
+    search(scene, false)
+}
+
+fn search(scene: &Scene, jumps: bool) -> Result<SceneSearch, TreeError> {
     let p: SceneParams<Rational> = scene
         .params::<crate::core::num::Exact>()
         .map(Rational::from_exact);
@@ -101,31 +111,38 @@ pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
     // The robot's motion depends only on the brake step, which many runs share.
     let mut motions: HashMap<Option<usize>, Motion> = HashMap::new();
     let mut curves = BrakeCurves::new();
-    let stats = walk(&p, &mut profile, horizon, NODE_BUDGET, |leaf, profile| {
-        let brake = match leaf.ending {
-            tree::Ending::Brake { step, .. } => Some(step),
-            tree::Ending::Forever { .. } => None,
-        };
-        let motion = motions
-            .entry(brake)
-            .or_insert_with(|| Motion::of_with(&p, profile, &leaf.ending, &mut curves));
-        for (i, slot) in per.iter_mut().enumerate() {
-            let Some(w) = worst(&p, profile, leaf, motion, i) else {
-                continue;
+    let stats = walk(
+        &p,
+        &mut profile,
+        horizon,
+        NODE_BUDGET,
+        jumps,
+        |leaf, profile| {
+            let brake = match leaf.ending {
+                tree::Ending::Brake { step, .. } => Some(step),
+                tree::Ending::Forever { .. } => None,
             };
-            if overall.as_ref().is_none_or(|o| w.below(&o.worst)) {
-                overall = Some(WorstRun {
-                    obstacle: i,
-                    worst: w.clone(),
-                    leaf: leaf.clone(),
-                    motion: motion.clone(),
-                });
+            let motion = motions
+                .entry(brake)
+                .or_insert_with(|| Motion::of_with(&p, profile, &leaf.ending, &mut curves));
+            for (i, slot) in per.iter_mut().enumerate() {
+                let Some(w) = worst(&p, profile, leaf, motion, i) else {
+                    continue;
+                };
+                if overall.as_ref().is_none_or(|o| w.below(&o.worst)) {
+                    overall = Some(WorstRun {
+                        obstacle: i,
+                        worst: w.clone(),
+                        leaf: leaf.clone(),
+                        motion: motion.clone(),
+                    });
+                }
+                if slot.as_ref().is_none_or(|s| w.below(s)) {
+                    *slot = Some(w);
+                }
             }
-            if slot.as_ref().is_none_or(|s| w.below(s)) {
-                *slot = Some(w);
-            }
-        }
-    })?;
+        },
+    )?;
     let obstacles = per
         .into_iter()
         .map(|w| match w {

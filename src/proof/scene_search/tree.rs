@@ -158,12 +158,15 @@ pub struct TreeStats {
     pub leaves: usize,
 }
 
-/// Walks every run of the scene and hands each finished one to `visit`.
+/// Walks every run of the scene and hands each finished one to `visit`; with `jumps`, over
+/// the steps at which nothing can happen (Lemma R7, [`quiet_until`]) in one go, else step
+/// by step (the same runs and answers, slower: a check of the lemma).
 pub fn walk(
     p: &SceneParams<Rational>,
     profile: &mut Profile,
     horizon: usize,
     budget: usize,
+    jumps: bool,
     mut visit: impl FnMut(&Leaf, &mut Profile),
 ) -> Result<TreeStats, TreeError> {
     let dt = p.robot.dt.clone();
@@ -224,7 +227,8 @@ pub fn walk(
             }
             continue;
         }
-        if let Some(next) = quiet_until(p, &sense, profile, &node, &lateral, goal_step, horizon)
+        if jumps
+            && let Some(next) = quiet_until(p, &sense, profile, &node, &lateral, goal_step, horizon)
             && next > k + 1
         {
             // Nothing the controller reads can change before `next`: go straight there.
