@@ -177,12 +177,7 @@ impl BrakeCurve {
 pub type BrakeCurves = Vec<BrakeCurve>;
 
 impl Motion {
-    /// The robot's motion in a leaf.
-    pub fn of(p: &SceneParams<Rational>, profile: &mut Profile, ending: &Ending) -> Motion {
-        Self::of_with(p, profile, ending, &mut BrakeCurves::new())
-    }
-
-    /// [`Self::of`], taking the braking from `curves` (and keeping new ones there).
+    /// The robot's motion in a leaf, its braking taken from `curves` (new ones kept there).
     pub fn of_with(
         p: &SceneParams<Rational>,
         profile: &mut Profile,

@@ -27,8 +27,6 @@ pub mod leaf;
 pub mod sense;
 pub mod tree;
 
-use std::collections::HashMap;
-
 use crate::core::num::Scalar;
 use crate::core::rational::Rational;
 use crate::core::scene::Scene;
@@ -108,8 +106,6 @@ fn search(scene: &Scene, jumps: bool) -> Result<SceneSearch, TreeError> {
     let mut profile = Profile::new(&p);
     let mut per: Vec<Option<Worst>> = vec![None; p.obstacles.len()];
     let mut overall: Option<WorstRun> = None;
-    // The robot's motion depends only on the brake step, which many runs share.
-    let mut motions: HashMap<Option<usize>, Motion> = HashMap::new();
     let mut curves = BrakeCurves::new();
     let stats = walk(
         &p,
@@ -118,13 +114,7 @@ fn search(scene: &Scene, jumps: bool) -> Result<SceneSearch, TreeError> {
         NODE_BUDGET,
         jumps,
         |leaf, profile| {
-            let brake = match leaf.ending {
-                tree::Ending::Brake { step, .. } => Some(step),
-                tree::Ending::Forever { .. } => None,
-            };
-            let motion = motions
-                .entry(brake)
-                .or_insert_with(|| Motion::of_with(&p, profile, &leaf.ending, &mut curves));
+            let motion = &Motion::of_with(&p, profile, &leaf.ending, &mut curves);
             for (i, slot) in per.iter_mut().enumerate() {
                 let Some(w) = worst(&p, profile, leaf, motion, i) else {
                     continue;
