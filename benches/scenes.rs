@@ -106,7 +106,7 @@ fn main() {
 }
 
 /// The exact run search on scenes with lane changes: the shipped ones, and the seed's
-/// picture with 1, 2, 4, 8 oncoming obstacles in the robot's lane (parked cars beside).
+/// picture with 1, 2, 3, 4, 8 oncoming obstacles in the robot's lane (parked cars beside).
 fn lane_changes(root: &Path) {
     println!(
         "| scene | verdict | s* (m) | runs | step starts | certify (ms) | ratio | check (ms) |"
@@ -121,7 +121,7 @@ fn lane_changes(root: &Path) {
                 (name.to_string(), s)
             })
             .collect();
-    for n in [1, 2] {
+    for n in [1, 2, 3, 4, 8] {
         let mut s = lanes.clone();
         let parked: Vec<Obstacle> = s.obstacles[1..].to_vec();
         s.obstacles = oncoming(&lanes, n).obstacles;

@@ -660,7 +660,11 @@ fn an_obstacle_starting_inside_d_det_is_refused() {
 /// on the shipped lane-change scenes, with and without gap noise.
 #[test]
 fn jumping_over_quiet_steps_changes_no_answer() {
-    use safereach::proof::scene_search::{search_scene, search_scene_step_by_step};
+    use safereach::proof::scene_search::{SearchOptions, search_scene, search_scene_with};
+    let step_by_step = SearchOptions {
+        jump_quiet_steps: false,
+        ..SearchOptions::default()
+    };
     let mut scenes: Vec<Scene> = Vec::new();
     let mut rng = ChaCha8Rng::seed_from_u64(23);
     for _ in 0..60 {
@@ -678,7 +682,7 @@ fn jumping_over_quiet_steps_changes_no_answer() {
     for scene in &scenes {
         let name = scene.to_toml_string();
         let fast = search_scene(scene).expect("searched");
-        let slow = search_scene_step_by_step(scene).expect("searched step by step");
+        let slow = search_scene_with(scene, step_by_step).expect("searched step by step");
         assert_eq!(fast.obstacles, slow.obstacles, "{name}");
         assert_eq!(fast.min_separation(), slow.min_separation(), "{name}");
         jumped += usize::from(fast.stats.nodes < slow.stats.nodes);

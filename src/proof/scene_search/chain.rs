@@ -83,6 +83,33 @@ impl Chain {
         }
     }
 
+    /// Whether two chains of the same obstacle put the same constraints on it, row by row.
+    pub fn same_constraints(&self, other: &Chain) -> bool {
+        let (mut a, mut b) = (Some(&self.head), Some(&other.head));
+        loop {
+            match (a, b) {
+                (None, None) => return true,
+                (Some(x), Some(y)) => {
+                    if Rc::ptr_eq(x, y) {
+                        return true;
+                    }
+                    if x.step != y.step || x.position != y.position || x.speed != y.speed {
+                        return false;
+                    }
+                    a = x.prev.as_ref();
+                    b = y.prev.as_ref();
+                }
+                _ => return false,
+            }
+        }
+    }
+
+    /// The steps the chain constrains, newest first (what two chains with the same
+    /// constraints share, cheaply: a hash key).
+    pub fn constrained_steps(&self) -> impl Iterator<Item = usize> + '_ {
+        std::iter::successors(Some(&self.head), |l| l.prev.as_ref()).map(|l| l.step)
+    }
+
     /// W_i.
     pub fn w_max(&self) -> &Rational {
         &self.motion.w_max

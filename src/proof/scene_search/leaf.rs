@@ -14,7 +14,7 @@ use crate::core::scene::SceneParams;
 use crate::core::scene::lateral::LaneChangeEvent;
 use crate::core::semantics::{Mode, RobotState, robot_motion};
 
-use super::chain::Extra;
+use super::chain::{Chain, Extra};
 use super::interval::{End, Interval};
 use super::tree::{Ending, Leaf, Profile};
 
@@ -185,11 +185,7 @@ impl Motion {
         curves: &mut BrakeCurves,
     ) -> Motion {
         let Ending::Brake { step, .. } = ending else {
-            return Motion {
-                brake: None,
-                braking: Vec::new(),
-                rest: None,
-            };
+            return Motion::driving_on();
         };
         let start = profile.at(p, *step).clone();
         let curve = match curves.iter().position(|c| c.speed == start.speed) {
@@ -214,6 +210,15 @@ impl Motion {
             brake: Some(*step),
             braking,
             rest: Some((t0 + after.clone(), step + steps)),
+        }
+    }
+
+    /// The motion of a robot that never brakes: the drive profile for ever.
+    pub fn driving_on() -> Motion {
+        Motion {
+            brake: None,
+            braking: Vec::new(),
+            rest: None,
         }
     }
 
@@ -267,12 +272,30 @@ pub fn worst(
     motion: &Motion,
     i: usize,
 ) -> Option<Worst> {
-    let lane = p.obstacles[i].lane;
-    let chain = &leaf.chains[i];
+    worst_of(
+        p,
+        profile,
+        &leaf.changes,
+        &leaf.chains[i],
+        p.obstacles[i].lane,
+        motion,
+    )
+}
+
+/// The worst case of an obstacle in `lane` with constraints `chain`, for a robot that
+/// makes lane changes `changes` and moves as `motion` (None: never in the lane).
+pub fn worst_of(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    changes: &[LaneChangeEvent],
+    chain: &Chain,
+    lane: i32,
+    motion: &Motion,
+) -> Option<Worst> {
     let dt = p.robot.dt.clone();
     let w = chain.w_max().clone();
     let mut best: Option<Worst> = None;
-    for interval in occupancies(&leaf.changes, p.lane_change_periods()) {
+    for interval in occupancies(changes, p.lane_change_periods()) {
         if interval.lane != lane {
             continue;
         }

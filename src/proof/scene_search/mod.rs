@@ -22,6 +22,7 @@
 
 pub mod cells;
 pub mod chain;
+mod dominance;
 pub mod interval;
 pub mod leaf;
 pub mod sense;
@@ -35,6 +36,7 @@ use crate::core::scene::simulate;
 
 use chain::Extra;
 use leaf::{BrakeCurves, Motion, Objective, Worst, worst};
+pub use tree::SearchOptions;
 use tree::{Leaf, Profile, TreeError, TreeStats, walk};
 
 /// At most this many step starts are expanded.
@@ -89,16 +91,12 @@ impl SceneSearch {
 
 /// Searches every run of a (validated) scene.
 pub fn search_scene(scene: &Scene) -> Result<SceneSearch, TreeError> {
-    search(scene, true)
+    search_scene_with(scene, SearchOptions::default())
 }
 
-/// [`search_scene`] reading every step, without jumping over quiet ones (Lemma R7): the
-/// same answers, slower. For tests of the lemma.
-pub fn search_scene_step_by_step(scene: &Scene) -> Result<SceneSearch, TreeError> {
-    search(scene, false)
-}
-
-fn search(scene: &Scene, jumps: bool) -> Result<SceneSearch, TreeError> {
+/// [`search_scene`] searching as `how` asks: the same answers whatever it asks, slower
+/// without the shortcuts. For tests of the lemmas behind them.
+pub fn search_scene_with(scene: &Scene, how: SearchOptions) -> Result<SceneSearch, TreeError> {
     let p: SceneParams<Rational> = scene
         .params::<crate::core::num::Exact>()
         .map(Rational::from_exact);
@@ -112,7 +110,7 @@ fn search(scene: &Scene, jumps: bool) -> Result<SceneSearch, TreeError> {
         &mut profile,
         horizon,
         NODE_BUDGET,
-        jumps,
+        how,
         |leaf, profile| {
             let motion = &Motion::of_with(&p, profile, &leaf.ending, &mut curves);
             for (i, slot) in per.iter_mut().enumerate() {

@@ -23,6 +23,7 @@ use std::rc::Rc;
 
 use super::cells::{Cell, Role, Thresholds, cells, quiet};
 use super::chain::Chain;
+use super::dominance::{Dominance, NodeView};
 use super::interval::Interval;
 use super::sense::{Sense, Sight};
 
@@ -156,17 +157,43 @@ pub struct TreeStats {
     pub nodes: usize,
     /// Finished runs.
     pub leaves: usize,
+    /// Step starts left out as dominated by one searched ([`SearchOptions::prune_dominated`]).
+    pub pruned: usize,
 }
 
-/// Walks every run of the scene and hands each finished one to `visit`; with `jumps`, over
-/// the steps at which nothing can happen (Lemma R7, [`quiet_until`]) in one go, else step
-/// by step (the same runs and answers, slower: a check of the lemma).
+/// How to search: the exact shortcuts, each of which can be turned off (the same answers,
+/// slower: tests check each against the search without it), and the order of children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SearchOptions {
+    /// Search a node's children last first (the answers do not depend on the order; a test
+    /// turns it so that pruning cannot owe its answers to which run it met first).
+    pub reverse_children: bool,
+    /// Jump over the steps at which nothing can happen (Lemma R7, [`quiet_until`]) in one
+    /// go instead of step by step.
+    pub jump_quiet_steps: bool,
+    /// Leave out a step start whose every run is worth no less, obstacle by obstacle, than
+    /// the same run from one already searched (Lemma R9, [`super::dominance`]).
+    pub prune_dominated: bool,
+}
+
+impl Default for SearchOptions {
+    fn default() -> SearchOptions {
+        SearchOptions {
+            reverse_children: false,
+            jump_quiet_steps: true,
+            prune_dominated: true,
+        }
+    }
+}
+
+/// Walks every run of the scene and hands each finished one to `visit`, searching as
+/// `how` asks.
 pub fn walk(
     p: &SceneParams<Rational>,
     profile: &mut Profile,
     horizon: usize,
     budget: usize,
-    jumps: bool,
+    how: SearchOptions,
     mut visit: impl FnMut(&Leaf, &mut Profile),
 ) -> Result<TreeStats, TreeError> {
     let dt = p.robot.dt.clone();
@@ -194,7 +221,25 @@ pub fn walk(
     let mut stats = TreeStats::default();
     let mut stack = vec![root];
     let mut known_cells = CellMemo::default();
+    let mut searched = Dominance::default();
     while let Some(node) = stack.pop() {
+        if how.prune_dominated
+            && !searched.admit(
+                p,
+                &sense,
+                profile,
+                NodeView {
+                    k: node.k,
+                    lateral: &node.lateral.at_step(node.k, periods),
+                    changes: &node.changes,
+                    chains: &node.chains,
+                    sights: &node.sights,
+                },
+            )
+        {
+            stats.pruned += 1;
+            continue;
+        }
         stats.nodes += 1;
         if stats.nodes > budget {
             return Err(TreeError::Budget(budget));
@@ -227,7 +272,7 @@ pub fn walk(
             }
             continue;
         }
-        if jumps
+        if how.jump_quiet_steps
             && let Some(next) = quiet_until(p, &sense, profile, &node, &lateral, goal_step, horizon)
             && next > k + 1
         {
@@ -329,6 +374,7 @@ pub fn walk(
             };
             merge_equivalent(p, &robot, &lateral, &at, &bases, &mut options, &targets);
         }
+        let pushed_from = stack.len();
         let mut choice = vec![0usize; options.len()];
         loop {
             let mut seen: Vec<Option<Observation<Rational>>> = choice
@@ -377,6 +423,9 @@ pub fn walk(
             if !advance(&mut choice, &options, &targets) {
                 break;
             }
+        }
+        if how.reverse_children {
+            stack[pushed_from..].reverse();
         }
     }
     Ok(stats)

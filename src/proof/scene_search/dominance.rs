@@ -1,0 +1,312 @@
+//! Runs that differ only in their past (Lemma R9, docs/reductions.md §7).
+//!
+//! Two nodes at the same step, with the robot in the same lateral state and every obstacle
+//! that can still be read under the same constraints, have the same future: the same
+//! commands for the same behaviours. What differs is what each leaf below is worth, through
+//! the past: the lane changes made, and the obstacles already passed for good (behind the
+//! robot beyond the rear gap whatever they did, so never read again). When every leaf below
+//! a node is worth, obstacle by obstacle, at least what the same leaf below a node already
+//! searched is worth, the node is left out: every obstacle's s* and the overall worst case
+//! are reached below the other. After a lane change away from an oncoming obstacle and
+//! back, the runs of every swerving step meet again like this.
+
+use std::collections::HashMap;
+use std::hash::{DefaultHasher, Hash, Hasher};
+
+use crate::core::num::Scalar;
+use crate::core::rational::Rational;
+use crate::core::scene::SceneParams;
+use crate::core::scene::lateral::{LaneChangeEvent, Lateral};
+
+use super::chain::Chain;
+use super::leaf::{Motion, Occupancy, Worst, occupancies, worst_of};
+use super::sense::{Sense, Sight};
+use super::tree::Profile;
+
+/// The nodes searched so far, by what their futures share.
+#[derive(Default)]
+pub(super) struct Dominance {
+    buckets: HashMap<u64, Vec<Seen>>,
+}
+
+/// A node as the dominance test reads it.
+pub(super) struct NodeView<'a> {
+    pub k: usize,
+    pub lateral: &'a Lateral,
+    pub changes: &'a [LaneChangeEvent],
+    pub chains: &'a [Chain],
+    pub sights: &'a [Sight],
+}
+
+/// A node searched: what its future reads, and (once asked) what its past makes of each
+/// obstacle.
+struct Seen {
+    k: usize,
+    lateral: Lateral,
+    passed: Vec<bool>,
+    chains: Vec<Chain>,
+    sights: Vec<Sight>,
+    changes: Vec<LaneChangeEvent>,
+    parts: Option<Vec<Part>>,
+}
+
+/// What a node's past makes of one obstacle in every leaf below it.
+#[derive(Debug)]
+enum Part {
+    /// Passed for good, with every stay of the robot in its lane so far already worth its
+    /// final amount: in a leaf below, the obstacle is worth min(`settled`, x − `highest`)
+    /// with x the least position at which the robot enters its lane later (Behind, §11.6:
+    /// −gap at the entry, and its highest position never falls below where it is now
+    /// standing still); with `behind`, a stay that began with it behind is worth no more
+    /// than any later entry, so min(`settled`, …) = `settled`.
+    Passed {
+        /// None: +∞ (never in its lane so far).
+        settled: Option<Rational>,
+        behind: bool,
+        highest: Rational,
+    },
+    /// Still read, or not yet settled: its chain and sight must be the same, and its past
+    /// stays in its lane must count the same.
+    Live(Past),
+}
+
+/// How an obstacle's past stays in its lane enter a leaf's worst case.
+#[derive(Debug, PartialEq)]
+enum Past {
+    /// Ahead whatever it did when the robot last entered its lane: every earlier stay ended
+    /// before that one began, with it ahead, at a larger gap (gaps never grow), so only when
+    /// the last stay ends counts.
+    AheadSince { end: Option<usize> },
+    /// The stays as they are.
+    Stays(Vec<Occupancy>),
+}
+
+impl Dominance {
+    /// Whether the node must be searched: false when a node already searched dominates it.
+    /// A node searched is remembered.
+    pub fn admit(
+        &mut self,
+        p: &SceneParams<Rational>,
+        sense: &Sense,
+        profile: &mut Profile,
+        node: NodeView<'_>,
+    ) -> bool {
+        let passed = passed_for_good(p, sense, profile, &node);
+        let mut hasher = DefaultHasher::new();
+        node.k.hash(&mut hasher);
+        lateral_key(node.lateral).hash(&mut hasher);
+        passed.hash(&mut hasher);
+        for (i, chain) in node.chains.iter().enumerate() {
+            if !passed[i] {
+                for s in chain.constrained_steps() {
+                    s.hash(&mut hasher);
+                }
+                sight_key(&node.sights[i]).hash(&mut hasher);
+            }
+        }
+        let bucket = self.buckets.entry(hasher.finish()).or_default();
+        let mut mine: Option<Vec<Part>> = None;
+        for seen in bucket.iter_mut() {
+            if seen.k != node.k || seen.lateral != *node.lateral || seen.passed != passed {
+                continue;
+            }
+            let same_future = (0..passed.len()).all(|i| {
+                passed[i]
+                    || (seen.sights[i] == node.sights[i]
+                        && seen.chains[i].same_constraints(&node.chains[i]))
+            });
+            if !same_future {
+                continue;
+            }
+            let theirs = seen.parts.get_or_insert_with(|| {
+                parts(
+                    p,
+                    profile,
+                    node.k,
+                    &seen.changes,
+                    &seen.chains,
+                    &seen.passed,
+                )
+            });
+            let mine = mine.get_or_insert_with(|| {
+                parts(p, profile, node.k, node.changes, node.chains, &passed)
+            });
+            // A passed obstacle not yet settled counts as still read: the same chain.
+            let open_alike = (0..passed.len()).all(|i| {
+                !(passed[i] && matches!(mine[i], Part::Live(_)))
+                    || (seen.sights[i] == node.sights[i]
+                        && seen.chains[i].same_constraints(&node.chains[i]))
+            });
+            if open_alike && dominates(theirs, mine) {
+                return false;
+            }
+        }
+        bucket.push(Seen {
+            k: node.k,
+            lateral: *node.lateral,
+            passed,
+            chains: node.chains.to_vec(),
+            sights: node.sights.to_vec(),
+            changes: node.changes.to_vec(),
+            parts: mine,
+        });
+        true
+    }
+}
+
+/// Per obstacle, whether it is passed for good at the node: shown, and at the observation
+/// read at this step its true gap is below −(rear gap + σ_g) whatever it did. Then every
+/// error shows it below −rear gap at this and every later read (gaps never grow): never in
+/// the reaction area, never blocking a lane, so no guard reads it again and its chain gains
+/// only rows it already meets.
+fn passed_for_good(
+    p: &SceneParams<Rational>,
+    sense: &Sense,
+    profile: &mut Profile,
+    node: &NodeView<'_>,
+) -> Vec<bool> {
+    let Some(n) = node.k.checked_sub(p.robot.L) else {
+        return vec![false; node.chains.len()];
+    };
+    let rear = p
+        .lane_change
+        .as_ref()
+        .map_or_else(Rational::zero, |lc| lc.rear_gap.clone());
+    let below = profile.at(p, n).position.clone() - rear - sense.sigma_g.clone();
+    node.chains
+        .iter()
+        .zip(node.sights)
+        .map(|(chain, sight)| {
+            matches!(sight, Sight::Shown { .. })
+                && chain
+                    .reach_at(n.max(chain.last_step()))
+                    .hi
+                    .is_some_and(|h| h.at < below)
+        })
+        .collect()
+}
+
+/// What the node's past makes of each obstacle.
+fn parts(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    k: usize,
+    changes: &[LaneChangeEvent],
+    chains: &[Chain],
+    passed: &[bool],
+) -> Vec<Part> {
+    let stays = occupancies(changes, p.lane_change_periods());
+    (0..chains.len())
+        .map(|i| {
+            let lane = p.obstacles[i].lane;
+            let mine: Vec<Occupancy> = stays.iter().filter(|o| o.lane == lane).cloned().collect();
+            let settled = match passed[i] {
+                true => settled(p, profile, k, changes, &chains[i], lane, &mine),
+                false => None,
+            };
+            settled.unwrap_or_else(|| Part::Live(past(p, profile, &chains[i], mine)))
+        })
+        .collect()
+}
+
+/// A passed obstacle's worth so far, when no stay in its lane is still open to the future:
+/// every stay that has not ended before step k (it may still end, or be continued by a
+/// change straight back) began with it behind whatever it did, so it is worth −gap at its
+/// start; the others ended while the robot moved, worth their gap at the exit. None when
+/// some stay is still open.
+fn settled(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    k: usize,
+    changes: &[LaneChangeEvent],
+    chain: &Chain,
+    lane: i32,
+    stays: &[Occupancy],
+) -> Option<Part> {
+    let mut behind = false;
+    for stay in stays {
+        let robot = profile.at(p, stay.start).position.clone();
+        let ahead_possible = chain
+            .marginal(stay.start, &[])
+            .hi
+            .is_none_or(|h| h.at > robot);
+        if !ahead_possible {
+            behind = true;
+        } else if stay.end.is_none_or(|e| e >= k) {
+            return None;
+        }
+    }
+    let settled = match worst_of(p, profile, changes, chain, lane, &Motion::driving_on()) {
+        None => None,
+        Some(Worst { value: Some(v), .. }) => Some(v),
+        Some(Worst { value: None, .. }) => return None,
+    };
+    let highest = chain.reach_at(chain.last_step()).hi?.at;
+    Some(Part::Passed {
+        settled,
+        behind,
+        highest,
+    })
+}
+
+/// How a live obstacle's past stays in its lane count.
+fn past(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    chain: &Chain,
+    stays: Vec<Occupancy>,
+) -> Past {
+    if let Some(last) = stays.iter().max_by_key(|o| o.start) {
+        let robot = profile.at(p, last.start).position.clone();
+        let ahead = chain
+            .marginal(last.start, &[])
+            .lo
+            .is_some_and(|l| l.at > robot || (l.at == robot && !l.closed));
+        if ahead {
+            return Past::AheadSince { end: last.end };
+        }
+    }
+    Past::Stays(stays)
+}
+
+/// Whether every leaf below a node with `theirs` is worth, per obstacle, at most what the
+/// same leaf below a node with `mine` is worth (the futures being the same).
+fn dominates(theirs: &[Part], mine: &[Part]) -> bool {
+    theirs.iter().zip(mine).all(|(a, b)| match (a, b) {
+        (Part::Live(x), Part::Live(y)) => x == y,
+        (
+            Part::Passed {
+                settled: sa,
+                highest: ha,
+                ..
+            },
+            Part::Passed {
+                settled: sb,
+                behind: bb,
+                highest: hb,
+            },
+        ) => {
+            // Mine is min(sb, x − hb), or sb when bb; theirs is at most sa and x − ha.
+            let no_lower = match (sa, sb) {
+                (_, None) => true,
+                (None, Some(_)) => false,
+                (Some(a), Some(b)) => b >= a,
+            };
+            no_lower && (*bb || hb <= ha)
+        }
+        _ => false,
+    })
+}
+
+/// The lateral state as plain numbers, for hashing.
+fn lateral_key(l: &Lateral) -> (i32, Option<(usize, i32, i32)>) {
+    (l.lane, l.change.map(|c| (c.step, c.from, c.to)))
+}
+
+/// A sight as plain numbers, for hashing.
+fn sight_key(s: &Sight) -> (u8, usize, bool) {
+    match *s {
+        Sight::Shown { from, far_only } => (0, from, far_only),
+        Sight::Hidden { since } => (1, since, false),
+    }
+}
