@@ -194,7 +194,7 @@ pub fn walk(
     horizon: usize,
     budget: usize,
     how: SearchOptions,
-    mut visit: impl FnMut(&Leaf, &mut Profile),
+    visit: impl FnMut(&Leaf, &mut Profile),
 ) -> Result<TreeStats, TreeError> {
     let dt = p.robot.dt.clone();
     let sense = Sense::of(p);
@@ -216,6 +216,52 @@ pub fn walk(
         sights: vec![sense.initial(); p.obstacles.len()],
         log: None,
     };
+    walk_from(p, profile, horizon, budget, how, root, visit)
+}
+
+/// A step start, as a search can be started from it (tests search below the nodes that
+/// Lemma R9 compares).
+#[cfg(test)]
+#[derive(Clone, Debug)]
+pub(super) struct Start {
+    pub k: usize,
+    pub lateral: Lateral,
+    pub changes: Vec<LaneChangeEvent>,
+    pub chains: Vec<Chain>,
+    pub sights: Vec<Sight>,
+}
+
+/// [`walk`] over the runs below `start` only.
+#[cfg(test)]
+pub(super) fn walk_below(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    horizon: usize,
+    how: SearchOptions,
+    start: Start,
+    visit: impl FnMut(&Leaf, &mut Profile),
+) -> Result<TreeStats, TreeError> {
+    let root = Node {
+        k: start.k,
+        lateral: start.lateral,
+        changes: start.changes,
+        chains: start.chains,
+        sights: start.sights,
+        log: None,
+    };
+    walk_from(p, profile, horizon, usize::MAX, how, root, visit)
+}
+
+fn walk_from(
+    p: &SceneParams<Rational>,
+    profile: &mut Profile,
+    horizon: usize,
+    budget: usize,
+    how: SearchOptions,
+    root: Node,
+    mut visit: impl FnMut(&Leaf, &mut Profile),
+) -> Result<TreeStats, TreeError> {
+    let sense = Sense::of(p);
     let periods = p.lane_change_periods();
     let goal_step = goal_step(p, profile, horizon);
     let mut stats = TreeStats::default();
