@@ -104,10 +104,49 @@ impl Chain {
         }
     }
 
-    /// The steps the chain constrains, newest first (what two chains with the same
-    /// constraints share, cheaply: a hash key).
-    pub fn constrained_steps(&self) -> impl Iterator<Item = usize> + '_ {
-        std::iter::successors(Some(&self.head), |l| l.prev.as_ref()).map(|l| l.step)
+    /// A cheap necessary condition for [`Self::implies`]: what each leaves of the position
+    /// after both their rows is a marginal, so it must nest if the chains do.
+    pub fn may_imply(&self, other: &Chain) -> bool {
+        if Rc::ptr_eq(&self.head, &other.head) {
+            return true;
+        }
+        if self.head.step == other.head.step {
+            // The common case, without the drift's arithmetic.
+            return self.head.reach.within(&other.head.reach);
+        }
+        let last = self.last_step().max(other.last_step());
+        self.reach_at(last).within(&other.reach_at(last))
+    }
+
+    /// Whether every behaviour that meets `self` meets `other` too (chains of the same
+    /// obstacle): at each of `other`'s rows, what `self` leaves of the position is inside
+    /// the row's interval and the speed `self` sees there (if any) inside the row's.
+    /// Exact for positions (`self`'s marginals are exact); for speeds it asks `self` to
+    /// state the row, so it can answer false where the sets are nested after all.
+    pub fn implies(&self, other: &Chain) -> bool {
+        if self.same_constraints(other) {
+            return true;
+        }
+        if !self.may_imply(other) {
+            return false;
+        }
+        let rows: Vec<&Rc<Link>> =
+            std::iter::successors(Some(&other.head), |l| l.prev.as_ref()).collect();
+        let steps: Vec<usize> = rows.iter().map(|l| l.step).collect();
+        let points = self.points(&[], &steps);
+        let (forward, backward) = self.passes(&points);
+        let speeds = self.speeds();
+        rows.iter().all(|row| {
+            let j = points
+                .binary_search_by_key(&row.step, |p| p.step)
+                .expect("every row's step is a point");
+            let x = forward[j].intersect(&backward[j]);
+            let row_speed = row.speed.intersect(&speeds);
+            let speed_ok = row_speed == speeds
+                || row.step == 0
+                || points[j].speed.intersect(&speeds).within(&row_speed);
+            x.within(&row.position) && speed_ok
+        })
     }
 
     /// W_i.
@@ -393,6 +432,111 @@ mod tests {
             lo: Some(End::open(x)),
             hi: None,
         }
+    }
+
+    /// Whether the behaviour (X(0), speeds) meets every row of `c`.
+    fn meets(c: &Chain, x0: &Rational, ws: &[Rational]) -> bool {
+        let mut link = Some(&c.head);
+        while let Some(l) = link {
+            let mut x = x0.clone();
+            for w in &ws[..l.step] {
+                x = x - w.clone() * c.motion.dt.clone();
+            }
+            let speed_ok = l.step == 0 || l.speed.contains(&ws[l.step - 1]);
+            if !l.position.contains(&x) || !speed_ok {
+                return false;
+            }
+            link = l.prev.as_ref();
+        }
+        true
+    }
+
+    /// `implies` never claims an inclusion a behaviour contradicts: on random chains of
+    /// position and speed rows, every behaviour of a grid (start and each of 5 speeds in
+    /// steps of W/2) that meets one chain meets every chain it claims to imply; and it
+    /// does claim some (a chain implies itself with a row more, and rows of earlier steps
+    /// that its later rows force).
+    #[test]
+    fn implies_claims_only_inclusions_that_hold() {
+        let mut state = 0x5eed_u64;
+        let mut draw = |n: i64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as i64
+        };
+        let grid: Vec<Rational> = (0..=2).map(|i| r(i, 2)).collect();
+        let mut behaviours = Vec::new();
+        for x0 in 0..=4 {
+            for code in 0..3usize.pow(5) {
+                let ws: Vec<Rational> = (0..5)
+                    .map(|j| grid[(code / 3usize.pow(j)) % 3].clone())
+                    .collect();
+                behaviours.push((r(20 + x0, 2), ws));
+            }
+        }
+        let mut claimed = 0;
+        for _ in 0..300 {
+            let mut chains = Vec::new();
+            for _ in 0..2 {
+                let mut c = Chain::new(Interval::closed(r(10, 1), r(12, 1)), r(1, 1), r(1, 1));
+                for step in 1..=5 {
+                    if draw(2) == 0 {
+                        continue;
+                    }
+                    let at = r(2 * (12 - step) + draw(5), 2);
+                    let position = match draw(3) {
+                        0 => below(at),
+                        1 => above(at),
+                        _ => Interval::all(),
+                    };
+                    let speed = match draw(3) {
+                        0 => below(r(1, 2)),
+                        1 => above(r(1, 2)),
+                        _ => Interval::all(),
+                    };
+                    if let Some(next) = c.constrain(step as usize, &position, &speed) {
+                        c = next;
+                    }
+                }
+                chains.push(c);
+            }
+            let (a, b) = (&chains[0], &chains[1]);
+            for (x, y) in [(a, b), (b, a)] {
+                if x.implies(y) {
+                    claimed += 1;
+                    for (x0, ws) in &behaviours {
+                        assert!(
+                            !meets(x, x0, ws) || meets(y, x0, ws),
+                            "{x:?} does not imply {y:?}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(claimed >= 30, "only {claimed} inclusions claimed");
+        // A later row forces an earlier one: X(5) ≤ 6 from X(0) = 10 with W·dt = 1 forces
+        // X(3) ≤ 8; not X(3) ≤ 7.9.
+        let start = Chain::new(Interval::point(r(10, 1)), r(1, 1), r(1, 1));
+        let late = start
+            .constrain(5, &below(r(6, 1)), &Interval::all())
+            .unwrap();
+        let forced = start
+            .constrain(3, &below(r(8, 1)), &Interval::all())
+            .unwrap();
+        let too_much = start
+            .constrain(3, &below(r(79, 10)), &Interval::all())
+            .unwrap();
+        assert!(late.implies(&forced) && late.implies(&start));
+        assert!(!late.implies(&too_much) && !start.implies(&late));
+        // Open and closed ends: (1, 2] is in [1, 2], not the other way round.
+        let closed = Interval::closed(r(1, 1), r(2, 1));
+        let half_open = Interval {
+            lo: Some(End::open(r(1, 1))),
+            hi: Some(End::closed(r(2, 1))),
+        };
+        assert!(half_open.within(&closed) && !closed.within(&half_open));
+        assert!(closed.within(&Interval::all()) && !Interval::all().within(&closed));
     }
 
     /// A later constraint narrows an earlier step's positions (the backward pass), and a

@@ -1,14 +1,15 @@
 //! Runs that differ only in their past (Lemma R9, docs/reductions.md §7).
 //!
-//! Two nodes at the same step, with the robot in the same lateral state and every obstacle
-//! that can still be read under the same constraints, have the same future: the same
-//! commands for the same behaviours. What differs is what each leaf below is worth, through
-//! the past: the lane changes made, and the obstacles already passed for good (behind the
-//! robot beyond the rear gap whatever they did, so never read again). When every leaf below
-//! a node is worth, obstacle by obstacle, at least what the same leaf below a node already
-//! searched is worth, the node is left out: every obstacle's s* and the overall worst case
-//! are reached below the other. After a lane change away from an oncoming obstacle and
-//! back, the runs of every swerving step meet again like this.
+//! Two nodes at the same step, with the robot in the same lateral state, where every
+//! obstacle that can still be read allows below the second node only behaviours it allows
+//! below the first: each future of the second is a future of the first, with the same
+//! commands. What differs is what each is worth, through the past: the lane changes made,
+//! and the obstacles already passed for good (behind the robot beyond the rear gap whatever
+//! they did, so never read again). When every behaviour below a node is worth, obstacle by
+//! obstacle, at least a leaf below a node already searched, the node is left out: every
+//! obstacle's s* and the overall worst case are reached below the other. After a lane
+//! change away from an oncoming obstacle and back, the runs of every swerving step meet
+//! again like this.
 
 use std::collections::HashMap;
 use std::hash::{DefaultHasher, Hash, Hasher};
@@ -65,8 +66,9 @@ enum Part {
         behind: bool,
         highest: Rational,
     },
-    /// Still read, or not yet settled: its chain and sight must be the same, and its past
-    /// stays in its lane must count the same.
+    /// Still read, or not yet settled: its chain must allow no behaviour the kept node's
+    /// does not, its sight must be the same, and its past stays in its lane must count
+    /// the same.
     Live(Past),
 }
 
@@ -96,12 +98,9 @@ impl Dominance {
         node.k.hash(&mut hasher);
         lateral_key(node.lateral).hash(&mut hasher);
         passed.hash(&mut hasher);
-        for (i, chain) in node.chains.iter().enumerate() {
+        for (i, sight) in node.sights.iter().enumerate() {
             if !passed[i] {
-                for s in chain.constrained_steps() {
-                    s.hash(&mut hasher);
-                }
-                sight_key(&node.sights[i]).hash(&mut hasher);
+                sight_key(sight).hash(&mut hasher);
             }
         }
         let bucket = self.buckets.entry(hasher.finish()).or_default();
@@ -110,12 +109,12 @@ impl Dominance {
             if seen.k != node.k || seen.lateral != *node.lateral || seen.passed != passed {
                 continue;
             }
-            let same_future = (0..passed.len()).all(|i| {
-                passed[i]
-                    || (seen.sights[i] == node.sights[i]
-                        && seen.chains[i].same_constraints(&node.chains[i]))
-            });
-            if !same_future {
+            // Cheap tests for every obstacle first: most pairs fail one.
+            let (a, b) = (&seen.chains, node.chains);
+            let within_future = (0..passed.len())
+                .all(|i| passed[i] || (seen.sights[i] == node.sights[i] && b[i].may_imply(&a[i])))
+                && (0..passed.len()).all(|i| passed[i] || b[i].implies(&a[i]));
+            if !within_future {
                 continue;
             }
             let theirs = seen.parts.get_or_insert_with(|| {
@@ -131,11 +130,10 @@ impl Dominance {
             let mine = mine.get_or_insert_with(|| {
                 parts(p, profile, node.k, node.changes, node.chains, &passed)
             });
-            // A passed obstacle not yet settled counts as still read: the same chain.
+            // A passed obstacle not yet settled counts as still read.
             let open_alike = (0..passed.len()).all(|i| {
                 !(passed[i] && matches!(mine[i], Part::Live(_)))
-                    || (seen.sights[i] == node.sights[i]
-                        && seen.chains[i].same_constraints(&node.chains[i]))
+                    || (seen.sights[i] == node.sights[i] && node.chains[i].implies(&seen.chains[i]))
             });
             if open_alike && dominates(theirs, mine) {
                 #[cfg(test)]

@@ -131,6 +131,24 @@ impl Interval {
         above && below
     }
 
+    /// Whether every number of `self` is in `outer` (an empty interval is in every one).
+    pub fn within(&self, outer: &Interval) -> bool {
+        if self.is_empty() {
+            return true;
+        }
+        let lo_ok = match (&outer.lo, &self.lo) {
+            (None, _) => true,
+            (Some(_), None) => false,
+            (Some(o), Some(m)) => m.at > o.at || (m.at == o.at && (o.closed || !m.closed)),
+        };
+        let hi_ok = match (&outer.hi, &self.hi) {
+            (None, _) => true,
+            (Some(_), None) => false,
+            (Some(o), Some(m)) => m.at < o.at || (m.at == o.at && (o.closed || !m.closed)),
+        };
+        lo_ok && hi_ok
+    }
+
     /// A number inside, away from open ends when it can be: the midpoint of finite ends,
     /// else one unit inside the finite end, else 0. None when empty.
     pub fn inner_point(&self) -> Option<Rational> {
