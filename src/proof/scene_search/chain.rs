@@ -83,6 +83,12 @@ impl Chain {
         }
     }
 
+    /// Which chain this is: the address of its newest row, shared by the clones of one
+    /// chain and by no other chain while it lives.
+    pub fn identity(&self) -> usize {
+        Rc::as_ptr(&self.head) as usize
+    }
+
     /// Whether two chains of the same obstacle put the same constraints on it, row by row.
     pub fn same_constraints(&self, other: &Chain) -> bool {
         let (mut a, mut b) = (Some(&self.head), Some(&other.head));

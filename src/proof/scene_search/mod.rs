@@ -35,7 +35,7 @@ use crate::core::scene::SceneParams;
 use crate::core::scene::simulate;
 
 use chain::Extra;
-use leaf::{BrakeCurves, Motion, Objective, Worst, worst};
+use leaf::{BrakeCurves, Motion, Objective, Worst, WorstMemo};
 pub use tree::SearchOptions;
 use tree::{Leaf, Profile, TreeError, TreeStats, walk};
 
@@ -105,6 +105,7 @@ pub fn search_scene_with(scene: &Scene, how: SearchOptions) -> Result<SceneSearc
     let mut per: Vec<Option<Worst>> = vec![None; p.obstacles.len()];
     let mut overall: Option<WorstRun> = None;
     let mut curves = BrakeCurves::new();
+    let mut worsts = WorstMemo::for_scene(&p);
     let stats = walk(
         &p,
         &mut profile,
@@ -113,8 +114,9 @@ pub fn search_scene_with(scene: &Scene, how: SearchOptions) -> Result<SceneSearc
         how,
         |leaf, profile| {
             let motion = &Motion::of_with(&p, profile, &leaf.ending, &mut curves);
-            for (i, slot) in per.iter_mut().enumerate() {
-                let Some(w) = worst(&p, profile, leaf, motion, i) else {
+            let of_leaf = worsts.of_leaf(&p, profile, leaf, motion);
+            for (i, (slot, w)) in per.iter_mut().zip(of_leaf).enumerate() {
+                let Some(w) = w else {
                     continue;
                 };
                 if overall.as_ref().is_none_or(|o| w.below(&o.worst)) {
