@@ -18,7 +18,7 @@ use std::collections::HashMap;
 
 use super::chain::{Chain, Extra};
 use super::interval::{End, Interval};
-use super::tree::{Ending, Leaf, Profile};
+use super::tree::{Ending, Leaf, Profile, runs_share_much};
 
 /// An occupancy interval of a lane: from step `start` to step `end` (None: never left).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -284,15 +284,10 @@ pub struct WorstMemo {
 type Known = (Chain, Vec<(Vec<Occupancy>, Option<Worst>)>);
 
 impl WorstMemo {
-    /// A memo for a scene's search: kept when at least two obstacles move.
+    /// A memo for a scene's search: kept when its runs share much ([`runs_share_much`]).
     pub fn for_scene(p: &SceneParams<Rational>) -> WorstMemo {
-        let moving = p
-            .obstacles
-            .iter()
-            .filter(|o| o.max_speed > Rational::zero())
-            .count();
         WorstMemo {
-            on: moving >= 2,
+            on: runs_share_much(p),
             known: HashMap::new(),
         }
     }

@@ -139,6 +139,19 @@ struct Child {
     log: Log,
 }
 
+/// Whether runs of the scene share much: at least two obstacles move, so runs can differ
+/// in their past (Lemma R9 merges them) and siblings share the chains of the obstacles
+/// they did not split (worst cases are kept by chain). With one moving obstacle runs differ
+/// in their brake step, and both cost more than they save (the seed's picture: 43 M
+/// instructions without, 53 M with).
+pub fn runs_share_much(p: &SceneParams<Rational>) -> bool {
+    p.obstacles
+        .iter()
+        .filter(|o| o.max_speed > Rational::zero())
+        .count()
+        >= 2
+}
+
 /// Why the search stopped without an answer.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TreeError {
@@ -269,15 +282,7 @@ fn walk_from(
     let mut stack = vec![root];
     let mut known_cells = CellMemo::default();
     let mut searched = Dominance::default();
-    // Runs differ in their past in ways R9 merges once two obstacles move; with one, its
-    // comparisons cost more than they save (the seed's picture: 43 M instructions
-    // without, 51 M with).
-    let moving = p
-        .obstacles
-        .iter()
-        .filter(|o| o.max_speed > Rational::zero())
-        .count();
-    let prune = how.prune_dominated && moving >= 2;
+    let prune = how.prune_dominated && runs_share_much(p);
     while let Some(node) = stack.pop() {
         if prune
             && !searched.admit(
