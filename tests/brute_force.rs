@@ -17,7 +17,8 @@
 //! - "never brakes" programs: no guard fires at any step before J and o_J ≤ 0, for every J;
 //!   one feasible such program means the robot can collide without braking (s* = −∞).
 //!
-//! Every program is solved by Clarabel ([`safereach::analysis::lp::solve`], closed rows); an exact
+//! Every program is solved by Clarabel ([`safereach::analysis::lp::solve_by_clarabel`], closed
+//! rows) — not by the dense simplex the analyser uses, so the two sides share no solver; an exact
 //! forward interval pass over the partial sums of the speeds (exact for a chain of
 //! difference constraints) skips programs that are infeasible before the solver is asked,
 //! which only saves time. The oracle's s* is the least optimum over the feasible programs.
@@ -793,7 +794,7 @@ impl Answer {
 /// collision with the robot never braking.
 fn realised(params: &Params<Exact>, program: &Program, closed: Option<f64>) -> bool {
     MARGINS.iter().any(|&m| {
-        let LpOutcome::Optimal { x, .. } = lp::solve(program, m) else {
+        let LpOutcome::Optimal { x, .. } = lp::solve_by_clarabel(program, m) else {
             return false;
         };
         let speeds: Vec<Exact> = x
@@ -863,7 +864,7 @@ fn oracle(problem: &Problem) -> Answer {
         }
         answer.feasible += 1;
         let program = o.program(spec);
-        match lp::solve(&program, 0.0) {
+        match lp::solve_by_clarabel(&program, 0.0) {
             LpOutcome::Optimal { value, .. } => {
                 let never = matches!(spec.goal, Goal::NeverBrakes);
                 if never {
@@ -1452,7 +1453,7 @@ fn feasibility_pass_agrees_with_the_solver() {
         for spec in o.programs().iter().step_by(7) {
             let program = o.program(spec);
             let feasible = o.feasible(spec);
-            match lp::solve(&program, 0.0) {
+            match lp::solve_by_clarabel(&program, 0.0) {
                 LpOutcome::Optimal { .. } => assert!(
                     feasible,
                     "{c:?} {}: solver finds a point, exact pass says infeasible",

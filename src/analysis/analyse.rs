@@ -397,9 +397,12 @@ fn extract_witness(
     value: f64,
     solved: &mut usize,
 ) -> Option<Witness> {
-    for margin in [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2] {
+    let attempts = lp::point_sources(piece.has_objective())
+        .iter()
+        .flat_map(|&source| [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2].map(|m| (source, m)));
+    for (source, margin) in attempts {
         *solved += 1;
-        let LpOutcome::Optimal { x, .. } = lp::solve(program, margin) else {
+        let LpOutcome::Optimal { x, .. } = lp::solve_for_point(program, margin, source) else {
             continue;
         };
         let (shift, speeds, first_seen) = speeds_from_point(dec, piece, program, &x);

@@ -19,6 +19,7 @@ pub mod scene_radius;
 pub mod scene_region;
 mod scene_witness;
 pub mod scene_worst;
+pub mod simplex;
 pub mod sweep;
 pub mod sweep_file;
 

@@ -9,7 +9,7 @@
 use crate::analysis::analyse::{
     PieceResult, REPLAY_TOLERANCE, WITNESS_MARGIN, quantised as quantised_speed, speeds_from_point,
 };
-use crate::analysis::lp::{self, LpOutcome};
+use crate::analysis::lp::{self, LpOutcome, PointSource};
 use crate::analysis::scene::{ObstacleAnalysis, proved_empty};
 use crate::core::num::{Exact, f64_at_most};
 use crate::core::scene::simulate;
@@ -44,8 +44,12 @@ pub(crate) fn realise(
     }
     candidates.sort_by(|x, y| x.0.total_cmp(&y.0));
     for (value, a, piece) in candidates {
-        for margin in [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2] {
-            let Some(w) = attempt(dec, obstacles, a, &piece, margin, solved) else {
+        let attempts = lp::point_sources(piece.has_objective())
+            .iter()
+            .flat_map(|&source| [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2].map(|m| (source, m)));
+        for (source, margin) in attempts {
+            let how = PointSpec { margin, source };
+            let Some(w) = attempt(dec, obstacles, a, &piece, how, solved) else {
                 continue;
             };
             let realised = if piece.has_objective() {
@@ -62,18 +66,25 @@ pub(crate) fn realise(
     None
 }
 
+/// How a witness attempt solves for its points: strict rows `margin` inside, from `source`.
+#[derive(Clone, Copy)]
+struct PointSpec {
+    margin: f64,
+    source: PointSource,
+}
+
 /// Speeds for obstacle `a` of the lane from its piece's margin solution: (shift, speeds).
 fn piece_speeds(
     dec: &SceneDecomposition,
     a: usize,
     piece: &Piece,
-    margin: f64,
+    how: PointSpec,
     solved: &mut usize,
 ) -> Option<(usize, Vec<f64>)> {
     let d = &dec.obstacles[a].decomposition;
     let program = d.program(piece);
     *solved += 1;
-    let LpOutcome::Optimal { x, .. } = lp::solve(&program, margin) else {
+    let LpOutcome::Optimal { x, .. } = lp::solve_for_point(&program, how.margin, how.source) else {
         return None;
     };
     // (Scenes observe every obstacle from the start: no sighting to carry.)
@@ -87,11 +98,11 @@ fn attempt(
     obstacles: &[ObstacleAnalysis],
     a: usize,
     piece: &Piece,
-    margin: f64,
+    how: PointSpec,
     solved: &mut usize,
 ) -> Option<SceneWitness> {
     let scene = &dec.scene;
-    let (shift, target) = piece_speeds(dec, a, piece, margin, solved)?;
+    let (shift, target) = piece_speeds(dec, a, piece, how, solved)?;
     let brake = piece.brake + shift;
     let mut trigger = None;
     let mut fired: Option<(usize, Vec<f64>)> = None;
@@ -112,7 +123,7 @@ fn attempt(
                 let Some(firing) = obstacles[b].own[p].piece.shifted_to(brake) else {
                     continue;
                 };
-                if let Some((0, speeds)) = piece_speeds(dec, b, &firing, margin, solved) {
+                if let Some((0, speeds)) = piece_speeds(dec, b, &firing, how, solved) {
                     trigger = Some(Trigger::Obstacle {
                         obstacle: dec.obstacles[b].obstacle,
                         piece: firing,
@@ -151,7 +162,7 @@ fn attempt(
         lane: scene.obstacles[i].lane,
         piece: *piece,
         trigger,
-        margin,
+        margin: how.margin,
         obstacle_speeds: speeds,
         collides: replay.collided(),
         separation: replay.separations()[i].as_ref().map(f64_at_most),

@@ -196,7 +196,7 @@ fn the_command_line_states_writes_and_refuses() {
     assert_eq!(out.status.code(), Some(0));
     let text = stdout(&out);
     assert!(
-        text.contains("region: certified for every W <= 0.15 m/s at every rho >= 1.070001 m"),
+        text.contains("region: certified for every W <= 0.15 m/s at every rho >= 1.070001"),
         "{text}"
     );
     let check = safereach(dir.path())
