@@ -8,9 +8,14 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use safereach::analysis::lp::{self, LpOutcome};
 use safereach::analysis::{Options, WitnessPolicy, analyse, analyse_with};
 use safereach::core::model::{DangerRule, Problem, Sensing};
+use safereach::core::num::Exact;
+use safereach::core::parameter::ParamAffine;
 use safereach::proof::certificate::{Certificate, check};
+use safereach::proof::program::{Program, Row, Var};
+use safereach::proof::schedule::Decomposition;
 
 /// Median time per call of `f`, over `rounds` rounds of `per_round` calls.
 fn median(rounds: usize, per_round: usize, mut f: impl FnMut()) -> Duration {
@@ -27,6 +32,98 @@ fn median(rounds: usize, per_round: usize, mut f: impl FnMut()) -> Duration {
     times[rounds / 2]
 }
 
+/// A feasible random linear program with `n` variables in [0, 10] and `m` rows through a
+/// point of the box (small integer coefficients, some rows with slack), and an objective.
+fn random_program(n: usize, m: usize, seed: &mut u64) -> Program {
+    let mut next = |k: i64| -> i64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*seed >> 33) % k as u64) as i64
+    };
+    let point: Vec<i64> = (0..n).map(|_| next(11)).collect();
+    let rows = (0..m)
+        .map(|_| {
+            let a: Vec<i64> = (0..n).map(|_| next(9) - 4).collect();
+            let b = a.iter().zip(&point).map(|(a, x)| a * x).sum::<i64>() + next(4);
+            Row {
+                label: String::new(),
+                a: a.into_iter().map(Exact::from).collect(),
+                b: ParamAffine::constant(Exact::from(b)),
+                strict: false,
+            }
+        })
+        .collect();
+    let vars = (0..n)
+        .map(|j| Var {
+            name: format!("x{j}"),
+            lower: ParamAffine::constant(Exact::ZERO),
+            upper: ParamAffine::constant(Exact::from(10)),
+        })
+        .collect();
+    let objective = (0..n).map(|_| Exact::from(next(11) - 5)).collect();
+    Program::linear(
+        vars,
+        rows,
+        Some(objective),
+        ParamAffine::constant(Exact::ZERO),
+    )
+}
+
+/// The dense simplex against Clarabel on the same programs: the seed's pieces, then random
+/// programs of growing size (where the simplex's dense tableau stops paying).
+fn lp_solvers(seed: &Problem) {
+    let dec = Decomposition::new(seed);
+    let programs: Vec<Program> = dec.pieces.iter().map(|p| dec.program(p)).collect();
+    let t_simplex = median(31, 200, || {
+        for p in &programs {
+            black_box(lp::solve(black_box(p), 0.0));
+        }
+    });
+    let t_clarabel = median(31, 200, || {
+        for p in &programs {
+            black_box(lp::solve_by_clarabel(black_box(p), 0.0));
+        }
+    });
+    println!(
+        "seed's {} programs: simplex {:>8.2} µs, Clarabel {:>8.2} µs ({:.0}x)",
+        programs.len(),
+        t_simplex.as_secs_f64() * 1e6,
+        t_clarabel.as_secs_f64() * 1e6,
+        t_clarabel.as_secs_f64() / t_simplex.as_secs_f64()
+    );
+    let mut state = 0x5eed;
+    for n in [2, 4, 8, 16, 32, 48, 64] {
+        let programs: Vec<Program> = (0..20)
+            .map(|_| random_program(n, 3 * n, &mut state))
+            .collect();
+        let dense = median(5, 5, || {
+            for p in &programs {
+                black_box(lp::solve(black_box(p), 0.0));
+            }
+        });
+        let interior = median(5, 5, || {
+            for p in &programs {
+                black_box(lp::solve_by_clarabel(black_box(p), 0.0));
+            }
+        });
+        let by_simplex = programs
+            .iter()
+            .filter(|p| {
+                matches!(lp::solve(p, 0.0), LpOutcome::Optimal { .. })
+                    && lp::solve(p, 0.0) != lp::solve_by_clarabel(p, 0.0)
+            })
+            .count();
+        println!(
+            "random LPs, {n} variables, {} rows: lp::solve {:>9.2} µs, Clarabel {:>9.2} µs per program ({:.1}x; {by_simplex}/20 answered by the simplex)",
+            3 * n,
+            dense.as_secs_f64() * 1e6 / 20.0,
+            interior.as_secs_f64() * 1e6 / 20.0,
+            interior.as_secs_f64() / dense.as_secs_f64()
+        );
+    }
+}
+
 fn closed_form(p: &Problem) -> f64 {
     let v = p.robot.max_speed;
     let b = p.robot.braking;
@@ -38,6 +135,7 @@ fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let seed = Problem::load(&root.join("problems/seed.toml")).expect("seed problem loads");
 
+    lp_solvers(&seed);
     let analysis = analyse(&seed).expect("seed analyses");
     let cert = Certificate::from_analysis(&analysis);
     check(&cert).expect("seed certificate verifies");
