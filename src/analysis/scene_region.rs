@@ -92,7 +92,7 @@ impl RegionSubject for Scene {
                 let r = SceneRefutation {
                     point: b.axes.iter().map(|x| x.key()).zip(values).collect(),
                     obstacle: w.obstacle,
-                    obstacle_speeds: w.obstacle_speeds,
+                    obstacle_speeds: w.obstacle_speeds.iter().map(|s| s.to_vec()).collect(),
                 };
                 // What `check` will ask of it (a witness may collide with another obstacle
                 // than the one whose separation it pins).

@@ -18,6 +18,7 @@ use crate::proof::scene_certificate::{SceneWitness, Trigger};
 use crate::proof::scene_check::scene_witness_realises;
 use crate::proof::scene_schedule::SceneDecomposition;
 use crate::proof::schedule::{Ending, Piece};
+use crate::proof::witness_runs::Speeds;
 
 /// The first candidate, least optimum first (a feasible pass-through first of all), whose
 /// replay realises its optimum (or, for a pass-through, collides), with that optimum.
@@ -163,7 +164,7 @@ fn attempt(
         piece: *piece,
         trigger,
         margin: how.margin,
-        obstacle_speeds: speeds,
+        obstacle_speeds: speeds.iter().map(|s| Speeds::from_periods(s)).collect(),
         collides: replay.collided(),
         separation: replay.separations()[i].as_ref().map(f64_at_most),
         steps: replay.trace(),

@@ -35,7 +35,7 @@ pub struct CertifyArgs {
     pub(super) out: Option<PathBuf>,
     /// Also store the witness's state at every control period (`witness.steps`); without
     /// it the witness is its speed and mode segments, whose size does not grow with the
-    /// horizon (a scene's witness keeps its speeds per period for now).
+    /// horizon (a run search's witness keeps its exact speeds per period for now).
     #[arg(long)]
     steps: bool,
 }

@@ -46,7 +46,7 @@ pub fn replay(
                 .map(|o| o.start_min.clone())
                 .collect();
             (
-                Speeds::Floats(w.obstacle_speeds.clone()),
+                Speeds::Floats(w.obstacle_speeds.iter().map(|s| s.to_vec()).collect()),
                 starts,
                 w.obstacle,
             )

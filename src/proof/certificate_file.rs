@@ -32,6 +32,9 @@ const EARLIER_FORMATS: &[&str] = &[
     "safereach-certificate/1",
     "safereach-certificate/2",
     "safereach-scene-certificate/1",
+    "safereach-scene-certificate/2",
+    "safereach-scene-certificate/3",
+    "safereach-scene-certificate/4",
     "safereach-scene-search-certificate/1",
 ];
 

@@ -16,9 +16,10 @@ pub use crate::proof::certificate::Proof;
 use crate::proof::premise::{Premise, premises};
 use crate::proof::schedule::Piece;
 use crate::proof::verdict::Verdict;
+use crate::proof::witness_runs::Speeds;
 
 /// The format tag written into every scene certificate.
-pub const SCENE_FORMAT: &str = "safereach-scene-certificate/4";
+pub const SCENE_FORMAT: &str = "safereach-scene-certificate/5";
 
 /// The proofs for one obstacle of the robot's lane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,8 +69,9 @@ pub struct SceneWitness {
     pub trigger: Option<Trigger>,
     /// Strict rows were kept this far inside.
     pub margin: f64,
-    /// Speeds per obstacle (scene order) per period; W_i after the last.
-    pub obstacle_speeds: Vec<Vec<f64>>,
+    /// Speeds per obstacle (scene order) as constant-speed segments from period 0, the
+    /// same form as a single-obstacle witness's; W_i after the last.
+    pub obstacle_speeds: Vec<Speeds>,
     /// The replay collides.
     pub collides: bool,
     /// The obstacle's replayed separation, rounded down (null: it never stopped).

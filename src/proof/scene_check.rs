@@ -28,6 +28,7 @@ use crate::proof::separation::{Stated, settle};
 #[cfg(doc)]
 use crate::proof::verdict::TRACE_TOLERANCE;
 use crate::proof::verdict::rows_match;
+use crate::proof::witness_runs::Speeds;
 use crate::proof::witness_schedule::{RunSchedule, realises};
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, Invalid> {
@@ -240,23 +241,25 @@ fn check_witness(cert: &SceneCertificate, w: &SceneWitness) -> Result<bool, Inva
     }
     for (i, speeds) in w.obstacle_speeds.iter().enumerate() {
         let bound = &params.obstacles[i].max_speed;
-        if let Some(k) = speeds
+        if let Some(bad) = speeds
+            .segments()
             .iter()
-            .position(|&s| s.is_nan() || s < 0.0 || exact_float(s) > *bound)
+            .find(|s| s.speed.is_nan() || s.speed < 0.0 || exact_float(s.speed) > *bound)
         {
             return invalid(format!(
-                "witness speed of obstacle {:?} in period {k} is outside [0, W]",
-                scene.obstacles[i].name
+                "witness speed of obstacle {:?} in period {} is outside [0, W]",
+                scene.obstacles[i].name, bad.start
             ));
         }
     }
-    let periods = w.obstacle_speeds.iter().map(Vec::len).max().unwrap_or(0);
+    let periods = w.obstacle_speeds.iter().map(Speeds::len).max().unwrap_or(0);
+    let per_period: Vec<Vec<f64>> = w.obstacle_speeds.iter().map(Speeds::to_vec).collect();
     let starts: Vec<Exact> = params
         .obstacles
         .iter()
         .map(|o| o.start_min.clone())
         .collect();
-    let replay = simulate::replay(&params, &w.obstacle_speeds, &starts, periods, false);
+    let replay = simulate::replay(&params, &per_period, &starts, periods, false);
     if replay.periods() != periods {
         return invalid("witness lists speeds past the end of its run");
     }

@@ -228,7 +228,8 @@ fn runs_of_certified_scenes_hold() {
         let mut runs: Vec<Vec<SceneTraceRow>> = (0..12).map(|i| random_run(&scene, i)).collect();
         runs.push(at_full_speed(&scene));
         if let Some(w) = &cert.witness {
-            runs.push(run(&scene, &w.obstacle_speeds));
+            let speeds: Vec<Vec<f64>> = w.obstacle_speeds.iter().map(|s| s.to_vec()).collect();
+            runs.push(run(&scene, &speeds));
         }
         for (i, rows) in runs.iter().enumerate() {
             for (text, format) in [

@@ -364,7 +364,7 @@ fn witness_run(scene: &Scene, a: &SceneAnalysis) -> Option<()> {
         .enumerate()
         .map(|(i, o)| {
             let mut list = vec![Exact::ZERO, o.max_speed.clone()];
-            list.extend(w.obstacle_speeds[i].iter().map(|&x| exact_float(x)));
+            list.extend(w.obstacle_speeds[i].to_vec().into_iter().map(exact_float));
             list
         })
         .collect();

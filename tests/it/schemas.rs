@@ -34,7 +34,7 @@ pub(crate) fn valid(name: &str, json: &Value, what: &str) {
 fn certificate_schema(json: &Value) -> &'static str {
     match json["format"].as_str().unwrap() {
         "safereach-certificate/3" => "certificate",
-        "safereach-scene-certificate/4" => "scene-certificate",
+        "safereach-scene-certificate/5" => "scene-certificate",
         "safereach-scene-search-certificate/3" => "search-certificate",
         other => panic!("unknown certificate format {other}"),
     }
