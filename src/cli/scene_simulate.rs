@@ -1,6 +1,7 @@
 //! `safereach simulate` on a scene: random behaviours of every obstacle (Monte Carlo), or
 //! the replay of a scene certificate's witness, through the scene's step function.
 
+use safereach::proof::exact_speed_runs::exact_speeds_from_segments;
 use std::io::Write;
 
 use anyhow::{Context, Result};
@@ -73,7 +74,10 @@ pub fn replay(
             let speeds = w
                 .obstacle_speeds
                 .iter()
-                .map(|ws| ws.iter().map(exact).collect::<Result<Vec<_>>>())
+                .map(|segments| {
+                    exact_speeds_from_segments(segments, exact_from_text)
+                        .map_err(|e| anyhow::anyhow!("{}: witness speeds: {e}", path.display()))
+                })
                 .collect::<Result<Vec<_>>>()?;
             (
                 Speeds::Exact(speeds),

@@ -21,9 +21,9 @@ pub use crate::proof::certificate::Certificate;
 pub enum CertificateFile {
     /// One obstacle in the robot's lane (`safereach-certificate/3`).
     Single(Box<Certificate>),
-    /// A scene (`safereach-scene-certificate/4`).
+    /// A scene (`safereach-scene-certificate/5`).
     Scene(Box<SceneCertificate>),
-    /// A scene decided by the run search (`safereach-scene-search-certificate/3`).
+    /// A scene decided by the run search (`safereach-scene-search-certificate/4`).
     Search(Box<SearchCertificate>),
 }
 
@@ -36,6 +36,8 @@ const EARLIER_FORMATS: &[&str] = &[
     "safereach-scene-certificate/3",
     "safereach-scene-certificate/4",
     "safereach-scene-search-certificate/1",
+    "safereach-scene-search-certificate/2",
+    "safereach-scene-search-certificate/3",
 ];
 
 /// Only the format tag, to choose the reader.

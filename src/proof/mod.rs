@@ -7,6 +7,7 @@
 pub mod certificate;
 pub mod certificate_file;
 pub mod check;
+pub mod exact_speed_runs;
 pub mod json_read;
 pub mod occlusion_schedule;
 pub mod premise;

@@ -9,6 +9,7 @@
 //! are the brute-force oracle, the exhaustive explorer and the schedule analyser on scenes
 //! both decide (docs/crosschecks.md).
 
+use crate::proof::exact_speed_runs::{ExactSpeedSegment, exact_speed_segments};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
@@ -26,7 +27,7 @@ use crate::proof::separation::SEPARATION_TOLERANCE;
 use crate::proof::verdict::Verdict;
 
 /// The format tag written into every search certificate.
-pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/3";
+pub const SEARCH_FORMAT: &str = "safereach-scene-search-certificate/4";
 
 /// One obstacle's worst case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -60,10 +61,10 @@ pub struct RunWitness {
     /// Per obstacle, its start when its position is a range, as an exact number ("p/q");
     /// null for a fixed position.
     pub starts: Vec<Option<String>>,
-    /// Speeds per obstacle (scene order) per period, as exact numbers ("p/q": the search's
-    /// worst cases sit on guard thresholds such as V_a, which a float would cross); W_i
-    /// after the last.
-    pub obstacle_speeds: Vec<Vec<String>>,
+    /// Speeds per obstacle (scene order) as constant-speed segments from period 0, each
+    /// speed an exact number ("p/q": the search's worst cases sit on guard thresholds such
+    /// as V_a, which a float would cross); W_i after the last.
+    pub obstacle_speeds: Vec<Vec<ExactSpeedSegment>>,
     /// Occlusion: per obstacle, the step at whose start the robot is first shown it (null:
     /// never within the replay); empty without occlusion, when every obstacle is shown
     /// from the start.
@@ -350,10 +351,7 @@ fn replay_witness(
             .iter()
             .map(|s| s.as_ref().map(Exact::to_string))
             .collect(),
-        obstacle_speeds: speeds
-            .iter()
-            .map(|ws| ws.iter().map(Exact::to_string).collect())
-            .collect(),
+        obstacle_speeds: speeds.iter().map(|ws| exact_speed_segments(ws)).collect(),
         shown_from,
         observation_errors,
         lane_changes: replay.run.outcome.lane_changes.clone(),

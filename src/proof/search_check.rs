@@ -15,6 +15,7 @@ use crate::core::rational::Rational;
 use crate::core::scene::simulate;
 use crate::core::scene::{Position, SceneParams};
 use crate::proof::check::{CheckReport, Invalid};
+use crate::proof::exact_speed_runs::exact_speeds_from_segments;
 use crate::proof::scene_certificate::scene_premises;
 use crate::proof::scene_check::same_scene_trace;
 use crate::proof::scene_search::search_scene;
@@ -153,19 +154,20 @@ fn check_witness(
         starts.push(start);
     }
     let mut speeds: Vec<Vec<Exact>> = Vec::new();
-    for (i, texts) in w.obstacle_speeds.iter().enumerate() {
+    for (i, segments) in w.obstacle_speeds.iter().enumerate() {
         let bound = &params.obstacles[i].max_speed;
-        let read: Option<Vec<Exact>> = texts
-            .iter()
-            .map(|t| exact_from_text(t).filter(|x| *x >= Exact::ZERO && x <= bound))
-            .collect();
-        let Some(read) = read else {
-            return invalid(format!(
-                "a witness speed of obstacle {:?} is not a number in [0, W]",
-                scene.obstacles[i].name
-            ));
-        };
-        speeds.push(read);
+        let read = exact_speeds_from_segments(segments, |t| {
+            exact_from_text(t).filter(|x| *x >= Exact::ZERO && x <= bound)
+        });
+        match read {
+            Ok(read) => speeds.push(read),
+            Err(e) => {
+                return invalid(format!(
+                    "witness speeds of obstacle {:?}: {e}",
+                    scene.obstacles[i].name
+                ));
+            }
+        }
     }
     let periods = speeds.iter().map(Vec::len).max().unwrap_or(0);
     let exact_starts = witness_starts(scene, &starts);

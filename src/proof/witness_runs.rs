@@ -166,20 +166,25 @@ pub fn speeds_from_segments(segments: &[SpeedSegment]) -> Result<Vec<f64>, Strin
 
 /// The checks of [`speeds_from_segments`]; the number of periods.
 fn check_segments(segments: &[SpeedSegment]) -> Result<usize, String> {
+    check_runs(segments.iter().map(|s| (s.start, s.length)))
+}
+
+/// The checks of [`speeds_from_segments`] on segments given as (start, length), float or
+/// exact ([`crate::proof::exact_speed_runs`]); the number of periods.
+pub(crate) fn check_runs(runs: impl Iterator<Item = (usize, usize)>) -> Result<usize, String> {
     let mut next = 0usize;
-    for (i, s) in segments.iter().enumerate() {
-        if s.start != next {
+    for (i, (start, length)) in runs.enumerate() {
+        if start != next {
             return Err(format!(
-                "obstacle_speeds[{i}] starts at period {}, not {next} (segments follow each \
-                 other from period 0)",
-                s.start
+                "obstacle_speeds[{i}] starts at period {start}, not {next} (segments follow \
+                 each other from period 0)"
             ));
         }
-        if s.length == 0 {
+        if length == 0 {
             return Err(format!("obstacle_speeds[{i}] is empty (length 0)"));
         }
         next = next
-            .checked_add(s.length)
+            .checked_add(length)
             .filter(|&n| n <= MAX_WITNESS_PERIODS)
             .ok_or_else(|| {
                 format!(

@@ -5,6 +5,7 @@
 
 use predicates::prelude::*;
 use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::exact_speed_runs::ExactSpeedSegment;
 use safereach::proof::verdict::Verdict;
 use safereach::proof::witness_runs::Speeds;
 
@@ -376,5 +377,67 @@ fn a_scene_witness_is_segments_whatever_the_control_period() {
     assert!(
         e.0.contains(&format!("in period {start} is outside [0, W]")),
         "{e}"
+    );
+}
+
+/// The run search's witness (lane changes) keeps its exact speeds as segments too: at
+/// 100 Hz its certificate is about as small as at 10 Hz (it listed a "p/q" per obstacle
+/// per period, 194 KB), it checks, and under a fresh digest a gap between segments or a
+/// segment's speed past W is rejected, naming the obstacle.
+#[test]
+fn a_run_search_witness_is_exact_segments() {
+    let dir = tmp();
+    let certify = |dt: &str| {
+        stdout(
+            &safereach(dir.path())
+                .arg("certify")
+                .arg(problem_file("seed-lanes.toml"))
+                .args(["--set", &format!("robot.control_period={dt}"), "--json"])
+                .assert()
+                .code(0)
+                .get_output()
+                .clone(),
+        )
+    };
+    let slow = certify("0.1");
+    let fast = certify("0.01");
+    assert!(
+        fast.len() < 2 * slow.len() && fast.len() < 20_000,
+        "{} bytes at 100 Hz, {} at 10 Hz",
+        fast.len(),
+        slow.len()
+    );
+    let CertificateFile::Search(cert) = CertificateFile::from_json(&fast).unwrap() else {
+        panic!("a run-search certificate");
+    };
+    let periods: Vec<usize> = cert.witness.as_ref().unwrap().obstacle_speeds[0]
+        .iter()
+        .map(|s| s.length)
+        .collect();
+    assert!(
+        periods.iter().sum::<usize>() > 1_000 && periods.len() <= 8,
+        "{periods:?}"
+    );
+    let report = CertificateFile::Search(cert.clone()).check().unwrap();
+    assert_eq!(report.verdict, Verdict::Certified);
+
+    let forge = |edit: &dyn Fn(&mut Vec<ExactSpeedSegment>)| {
+        let mut forged = cert.clone();
+        edit(&mut forged.witness.as_mut().unwrap().obstacle_speeds[0]);
+        forged.digest = forged.compute_digest();
+        CertificateFile::Search(forged)
+            .check()
+            .expect_err("a forged witness")
+            .0
+    };
+    let gap = forge(&|s| s[1].start += 1);
+    assert!(
+        gap.contains("witness speeds of obstacle") && gap.contains("follow each other"),
+        "{gap}"
+    );
+    let fast_speed = forge(&|s| s[0].speed = "7/10".into());
+    assert!(
+        fast_speed.contains("is not an exact speed in [0, W]"),
+        "{fast_speed}"
     );
 }

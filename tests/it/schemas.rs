@@ -35,7 +35,7 @@ fn certificate_schema(json: &Value) -> &'static str {
     match json["format"].as_str().unwrap() {
         "safereach-certificate/3" => "certificate",
         "safereach-scene-certificate/5" => "scene-certificate",
-        "safereach-scene-search-certificate/3" => "search-certificate",
+        "safereach-scene-search-certificate/4" => "search-certificate",
         other => panic!("unknown certificate format {other}"),
     }
 }
