@@ -387,6 +387,31 @@ mod tests {
         );
     }
 
+    /// Beale's example, which cycles forever under Dantzig's rule alone: the switch to
+    /// Bland's rule after a degenerate run must reach the optimum −1/20 at x = (1/25, 0, 1, 0).
+    #[test]
+    fn a_cycling_program_still_reaches_its_optimum() {
+        let mut p = lp(
+            vec![
+                vec![0.25, -60.0, -0.04, 9.0],
+                vec![0.5, -90.0, -0.02, 3.0],
+                vec![0.0, 0.0, 1.0, 0.0],
+            ],
+            vec![0.0, 0.0, 1.0],
+            vec![0.0; 4],
+            vec![100.0; 4],
+        );
+        p.cost = vec![-0.75, 150.0, -0.02, 6.0];
+        let SimplexOutcome::Optimal { x, value, .. } = solve(&p) else {
+            panic!("solves");
+        };
+        assert!((value + 0.05).abs() < 1e-12, "{value} at {x:?}");
+        assert!(
+            (x[0] - 0.04).abs() < 1e-12 && (x[2] - 1.0).abs() < 1e-12,
+            "{x:?}"
+        );
+    }
+
     #[test]
     fn an_empty_program_gets_a_farkas_certificate() {
         // x ≥ 3 (as −x ≤ −3) with x ∈ [0, 2]: z·(−x + 3) ≤ 0 contradicts the box.
