@@ -326,7 +326,7 @@ impl<N: Scalar> RunSummary<N> {
         });
     }
 
-    /// Adds one period's record; `truth` is [`RunSummary::truth`] before it was stepped.
+    /// Adds one period's record; `truth` is `RunSummary::truth` before it was stepped.
     pub fn record(&mut self, p: &Params<N>, rec: &StepRecord<N>, truth: Option<Observation<N>>) {
         let k = rec.k;
         self.push_mode(rec.robot.mode, 1);

@@ -18,14 +18,14 @@ use crate::core::scene::Scene;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Curve {
     /// ρ*(W) over the speed bound on axis `key`, one curve per slice of the grid's other
-    /// axes (the first [`MAX_MAPS`] of `total`).
+    /// axes (the first `MAX_MAPS` of `total`).
     Radius {
         /// The speed-bound axis (`environment.obstacle_speed`, `obstacle.1.max_speed`).
         key: String,
         /// The curves, one per slice, in cell order.
         slices: Vec<SliceCurve>,
         /// How many slices the grid has (more than `slices` holds when it has more than
-        /// [`MAX_MAPS`]).
+        /// `MAX_MAPS`).
         total: usize,
     },
     /// A scene grid without a curve, and why (the page says it).
@@ -49,7 +49,7 @@ const SCENE_POINTS: f64 = 8.0;
 
 /// The curves of a grid: ρ*(W) from 0 to a little past the grid's fastest W, for the base
 /// problem or scene with one slice's values of the other axes applied, per slice (the
-/// first [`MAX_MAPS`]). Single-obstacle points are 0.01 m/s apart; a scene's at most 9,
+/// first `MAX_MAPS`). Single-obstacle points are 0.01 m/s apart; a scene's at most 9,
 /// at a round step (0.05 m/s for W up to 0.35).
 pub fn radius_curve(grid: &Grid) -> Result<Curve, String> {
     let key = match speed_axis(grid) {

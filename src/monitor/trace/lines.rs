@@ -100,7 +100,7 @@ impl<R: Read> Lines<R> {
     /// The next line and its 1-based number, or `None` at the end of the input.
     /// `before_read` runs before every read of the input, which may block (a monitor
     /// flushes its output there, so earlier verdicts go out before it waits). Input with no
-    /// line end for [`MAX_SKIP`] bytes is an [`io::ErrorKind::InvalidData`] error.
+    /// line end for `MAX_SKIP` bytes is an [`io::ErrorKind::InvalidData`] error.
     pub fn next_line(
         &mut self,
         mut before_read: impl FnMut() -> io::Result<()>,

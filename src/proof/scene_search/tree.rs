@@ -181,11 +181,11 @@ pub struct SearchOptions {
     /// Search a node's children last first (the answers do not depend on the order; a test
     /// turns it so that pruning cannot owe its answers to which run it met first).
     pub reverse_children: bool,
-    /// Jump over the steps at which nothing can happen (Lemma R7, [`quiet_until`]) in one
+    /// Jump over the steps at which nothing can happen (Lemma R7, `quiet_until`) in one
     /// go instead of step by step.
     pub jump_quiet_steps: bool,
     /// Leave out a step start whose every run is worth no less, obstacle by obstacle, than
-    /// a run from one already searched (Lemma R9, [`super::dominance`]); taken when at
+    /// a run from one already searched (Lemma R9, `scene_search::dominance`); taken when at
     /// least two obstacles move.
     pub prune_dominated: bool,
 }
