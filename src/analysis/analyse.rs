@@ -11,7 +11,7 @@
 //! Verdicts: `certified` iff every piece is proved and the least bound exceeds the
 //! clearance; `refuted` iff a witness, replayed exactly, collides; else `inconclusive`.
 
-use crate::analysis::lp::{self, LpOutcome};
+use crate::analysis::lp::{self, LpOutcome, PointSource};
 use crate::core::model::{Params, Problem};
 use crate::core::num::{Exact, exact_float, f64_at_most};
 use crate::core::simulate;
@@ -386,6 +386,15 @@ pub(crate) fn prove(program: &Program, piece: &Piece, solved: &mut usize) -> Pie
     }
 }
 
+/// The (point source, margin) pairs a witness search tries for `piece`, in order: each
+/// source of [`lp::point_sources`] with strict rows [`WITNESS_MARGIN`] inside, then a
+/// hundredth of that.
+pub(crate) fn witness_attempts(piece: &Piece) -> impl Iterator<Item = (PointSource, f64)> {
+    lp::point_sources(piece.has_objective())
+        .iter()
+        .flat_map(|&source| [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2].map(|m| (source, m)))
+}
+
 /// Re-solves a piece with strict rows kept inside, turns the point into obstacle speeds and
 /// replays them exactly (floats would misplace a guard that lands exactly on its threshold).
 /// Returns the witness if the replay realises the piece's optimum (or, for a pass-through,
@@ -397,10 +406,7 @@ fn extract_witness(
     value: f64,
     solved: &mut usize,
 ) -> Option<Witness> {
-    let attempts = lp::point_sources(piece.has_objective())
-        .iter()
-        .flat_map(|&source| [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2].map(|m| (source, m)));
-    for (source, margin) in attempts {
+    for (source, margin) in witness_attempts(piece) {
         *solved += 1;
         let LpOutcome::Optimal { x, .. } = lp::solve_for_point(program, margin, source) else {
             continue;

@@ -1,6 +1,8 @@
-//! Clarabel, wrapped: a [`Program`] in, an [`LpOutcome`] out, every solver status named.
+//! The LP solvers, wrapped: a [`Program`] in, an [`LpOutcome`] out. Small linear programs
+//! go to the dense simplex ([`simplex`]), everything else to Clarabel, every solver status
+//! named.
 //!
-//! The solver is only ever a source of *candidates*: optimal points become witnesses that
+//! A solver is only ever a source of *candidates*: optimal points become witnesses that
 //! are replayed exactly, and multipliers become bounds that [`Program::bound`] recomputes
 //! exactly. An `AlmostSolved` or stalled run is reported as [`LpOutcome::Failed`], never
 //! read as an answer.

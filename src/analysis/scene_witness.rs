@@ -7,7 +7,8 @@
 //! the brake step (that is how the pieces were cut).
 
 use crate::analysis::analyse::{
-    PieceResult, REPLAY_TOLERANCE, WITNESS_MARGIN, quantised as quantised_speed, speeds_from_point,
+    PieceResult, REPLAY_TOLERANCE, quantised as quantised_speed, speeds_from_point,
+    witness_attempts,
 };
 use crate::analysis::lp::{self, LpOutcome, PointSource};
 use crate::analysis::scene::{ObstacleAnalysis, proved_empty};
@@ -45,10 +46,7 @@ pub(crate) fn realise(
     }
     candidates.sort_by(|x, y| x.0.total_cmp(&y.0));
     for (value, a, piece) in candidates {
-        let attempts = lp::point_sources(piece.has_objective())
-            .iter()
-            .flat_map(|&source| [WITNESS_MARGIN, WITNESS_MARGIN * 1e-2].map(|m| (source, m)));
-        for (source, margin) in attempts {
+        for (source, margin) in witness_attempts(&piece) {
             let how = PointSpec { margin, source };
             let Some(w) = attempt(dec, obstacles, a, &piece, how, solved) else {
                 continue;
