@@ -11,7 +11,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::core::num::Exact;
-use crate::proof::witness_runs::check_runs;
+use crate::proof::witness_runs::{check_runs, runs};
 
 /// An obstacle's exact speed over `length` control periods from period `start`.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -28,14 +28,8 @@ pub struct ExactSpeedSegment {
 
 /// Per-period exact speeds as maximal segments (equal neighbours merge).
 pub fn exact_speed_segments(speeds: &[Exact]) -> Vec<ExactSpeedSegment> {
-    let mut out: Vec<(usize, usize, &Exact)> = Vec::new();
-    for (k, s) in speeds.iter().enumerate() {
-        match out.last_mut() {
-            Some(last) if last.2 == s => last.1 += 1,
-            _ => out.push((k, 1, s)),
-        }
-    }
-    out.into_iter()
+    runs(speeds, |a, b| a == b)
+        .into_iter()
         .map(|(start, length, speed)| ExactSpeedSegment {
             start,
             length,

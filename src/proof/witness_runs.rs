@@ -136,20 +136,32 @@ impl<'de> Deserialize<'de> for Speeds {
     }
 }
 
-/// Per-period speeds as maximal constant segments (equal neighbours bit for bit merge).
-pub fn speed_segments(speeds: &[f64]) -> Vec<SpeedSegment> {
-    let mut out: Vec<SpeedSegment> = Vec::new();
-    for (k, &s) in speeds.iter().enumerate() {
+/// Per-period values as maximal runs `(start, length, value)` of neighbours `same` calls
+/// equal: what every kind of witness segment is made from.
+pub(crate) fn runs<T>(
+    values: impl IntoIterator<Item = T>,
+    same: impl Fn(&T, &T) -> bool,
+) -> Vec<(usize, usize, T)> {
+    let mut out: Vec<(usize, usize, T)> = Vec::new();
+    for (k, v) in values.into_iter().enumerate() {
         match out.last_mut() {
-            Some(last) if last.speed.to_bits() == s.to_bits() => last.length += 1,
-            _ => out.push(SpeedSegment {
-                start: k,
-                length: 1,
-                speed: s,
-            }),
+            Some(last) if same(&last.2, &v) => last.1 += 1,
+            _ => out.push((k, 1, v)),
         }
     }
     out
+}
+
+/// Per-period speeds as maximal constant segments (equal neighbours bit for bit merge).
+pub fn speed_segments(speeds: &[f64]) -> Vec<SpeedSegment> {
+    runs(speeds.iter().copied(), |a, b| a.to_bits() == b.to_bits())
+        .into_iter()
+        .map(|(start, length, speed)| SpeedSegment {
+            start,
+            length,
+            speed,
+        })
+        .collect()
 }
 
 /// Per-period speeds from segments, which must start at 0, follow each other without gap or
@@ -199,18 +211,14 @@ pub(crate) fn check_runs(runs: impl Iterator<Item = (usize, usize)>) -> Result<u
 /// The robot's modes per period (its mode at each period's start, as a replay's records or
 /// rows give it) as maximal segments.
 pub fn mode_segments(modes: impl IntoIterator<Item = Mode>) -> Vec<ModeSegment> {
-    let mut out: Vec<ModeSegment> = Vec::new();
-    for (k, mode) in modes.into_iter().enumerate() {
-        match out.last_mut() {
-            Some(last) if last.mode == mode => last.length += 1,
-            _ => out.push(ModeSegment {
-                start: k,
-                length: 1,
-                mode,
-            }),
-        }
-    }
-    out
+    runs(modes, |a, b| a == b)
+        .into_iter()
+        .map(|(start, length, mode)| ModeSegment {
+            start,
+            length,
+            mode,
+        })
+        .collect()
 }
 
 #[cfg(test)]
