@@ -78,13 +78,15 @@ impl Parameter {
 pub struct Boundary {
     /// The parameter searched.
     pub parameter: Parameter,
-    /// The boundary (ρ* or W*), within [`TOLERANCE`]; None when no value is certified.
+    /// The certified end of the boundary (ρ* from above, W* from below), within
+    /// 3·[`TOLERANCE`] of the root and on its decimal grid; certified itself, its certificate
+    /// is [`Boundary::certified`]. None when no value is certified.
     pub value: Option<f64>,
     /// Why there is no boundary, or a remark on it (e.g. it is the end of the range).
     pub reason: Option<String>,
-    /// The analysis just inside the certified side ([`PROBE_OFFSET`] from the boundary).
+    /// The analysis at `value` (certified, its certificate checked).
     pub certified: Option<Analysis>,
-    /// The analysis just outside it.
+    /// The analysis [`PROBE_OFFSET`] outside it.
     pub refuted: Option<Analysis>,
     /// Analyses run by the search (probes excluded).
     pub analyses: usize,
@@ -251,6 +253,23 @@ impl Spent {
     }
 }
 
+/// `x` moved onto the decimal grid of [`TOLERANCE`] towards the certified side (up when
+/// `toward_inside` is positive): the printed boundary is a short decimal, and monotonicity
+/// keeps it certified (the probe at it confirms that).
+pub(crate) fn on_grid(x: f64, toward_inside: f64) -> f64 {
+    let per_unit = (1.0 / TOLERANCE).round();
+    let steps = x * per_unit;
+    let steps = if toward_inside > 0.0 {
+        steps.ceil()
+    } else {
+        steps.floor()
+    };
+    steps / per_unit
+}
+
+/// Reports the certified end of `bracket` (outside, inside): the value printed is one the
+/// search certified and whose certificate passes the exact check, never the midpoint (which
+/// may lie on the unsafe side of the root).
 fn finish(
     base: &Problem,
     param: Parameter,
@@ -259,17 +278,27 @@ fn finish(
     reason: Option<String>,
 ) -> Result<Boundary, AnalysisError> {
     let (outside, inside) = bracket;
-    let value = 0.5 * (outside + inside);
     let toward_inside = if inside > outside { 1.0 } else { -1.0 };
-    let certified = probe(base, param, value + toward_inside * PROBE_OFFSET, spent)?;
-    // Nothing is reported certified unless its certificate passes the exact check.
-    if certified.verdict == Verdict::Certified
-        && let Err(e) = crate::proof::certificate::check(
-            &crate::proof::certificate::Certificate::from_analysis(&certified),
-        )
-    {
+    let mut value = on_grid(inside, toward_inside);
+    let mut certified = probe(base, param, value, spent)?;
+    if certified.verdict != Verdict::Certified && value != inside {
+        // The solver's bound is monotone only up to its duality gap: fall back to the end
+        // the search itself certified.
+        value = inside;
+        certified = probe(base, param, value, spent)?;
+    }
+    if certified.verdict != Verdict::Certified {
         return Err(AnalysisError::Inconsistent(format!(
-            "the certificate beside the boundary does not verify: {e}"
+            "the certified end of the boundary bracket ({value}) is {} on re-analysis",
+            certified.verdict.as_str()
+        )));
+    }
+    // Nothing is reported certified unless its certificate passes the exact check.
+    if let Err(e) = crate::proof::certificate::check(
+        &crate::proof::certificate::Certificate::from_analysis(&certified),
+    ) {
+        return Err(AnalysisError::Inconsistent(format!(
+            "the certificate at the boundary does not verify: {e}"
         )));
     }
     let below = value - toward_inside * PROBE_OFFSET;
@@ -436,16 +465,14 @@ impl Boundary {
         };
         match self.value {
             Some(v) => {
-                let mut s = format!("{given}: {name} {v:.9} {unit}");
-                if let Some(c) = &self.certified {
-                    s += &format!(
-                        " (at {:.9}: {}",
-                        Parameter::get(self.parameter, &c.problem),
-                        c.verdict.as_str()
-                    );
+                // Ten decimals: `value` lies on that grid, so the printed number is the one
+                // certified (nine would round it, possibly to the unsafe side).
+                let mut s = format!("{given}: {name} {v:.10} {unit}");
+                if self.certified.is_some() {
+                    s += " (certified";
                     if let Some(r) = &self.refuted {
                         s += &format!(
-                            "; at {:.9}: {}{}",
+                            "; at {:.10}: {}{}",
                             Parameter::get(self.parameter, &r.problem),
                             r.verdict.as_str(),
                             if r.verdict == Verdict::Refuted {

@@ -18,21 +18,28 @@ use crate::core::budget::{Budget, Meter, Work};
 use crate::core::scene::Scene;
 use crate::proof::verdict::Verdict;
 
-/// The bracket is closed to this width (m).
-pub const TOLERANCE: f64 = 1e-6;
+/// The bracket is closed to this width, as the single-obstacle searches'
+/// ([`crate::analysis::radius::TOLERANCE`]); the answer is its certified end, moved onto
+/// that decimal grid towards the certified side.
+pub const TOLERANCE: f64 = crate::analysis::radius::TOLERANCE;
+
+/// How far outside the answer the analysis reported beside it is taken
+/// ([`crate::analysis::radius::PROBE_OFFSET`]): far enough from the root for a refutation.
+const PROBE_OFFSET: f64 = crate::analysis::radius::PROBE_OFFSET;
 
 /// The answer of a radius search.
 #[derive(Clone, Debug)]
 pub struct SceneRadius {
-    /// The smallest certified radius found (within [`TOLERANCE`]), None if there is none
-    /// up to the cap.
+    /// The smallest certified radius found (within 2·[`TOLERANCE`] above the infimum, on
+    /// its decimal grid), None if there is none up to the cap.
     pub value: Option<f64>,
     /// The largest radius searched: the sensing range, or the farthest start in the
     /// robot's lane (beyond which nothing changes).
     pub cap: f64,
     /// The analysis at `value` (certified), or at the cap when there is no radius.
     pub at: SceneAnswer,
-    /// The analysis just below `value` (not certified), when the search bracketed one.
+    /// The analysis [`PROBE_OFFSET`] below `value` (not certified), when the search
+    /// bracketed one.
     pub below: Option<SceneAnswer>,
 }
 
@@ -41,12 +48,12 @@ impl SceneRadius {
     pub fn describe(&self) -> String {
         match self.value {
             Some(v) => {
-                // Nine decimals, as the single-obstacle radius: the bracket is 1e-6 wide, so
-                // six would print both of its ends alike.
-                let mut s = format!("safe radius {v:.9} m (certified");
+                // Ten decimals, as the single-obstacle radius: `value` lies on that grid, so
+                // the number printed is the one certified.
+                let mut s = format!("safe radius {v:.10} m (certified");
                 if let Some(b) = &self.below {
                     s += &format!(
-                        "; at {:.9}: {}",
+                        "; at {:.10}: {}",
                         b.scene().controller.reaction_radius,
                         b.verdict().as_str()
                     );
@@ -79,6 +86,27 @@ fn answer(scene: &Scene, meter: &Meter) -> Result<SceneAnswer, SceneAnalysisErro
     let horizon = crate::core::scene::simulate::horizon(&scene.params::<f64>()) as u64;
     meter.charge_analysis("scene analysis", horizon)?;
     SceneAnswer::of(scene)
+}
+
+/// The certified end `x` of a search (its answer `at_x`) moved onto the decimal grid towards
+/// the certified side (`toward_inside` > 0: up), when the analysis there (`analyse`)
+/// certifies it too; otherwise `x` itself.
+fn certified_on_grid(
+    x: f64,
+    at_x: SceneAnswer,
+    toward_inside: f64,
+    analyse: impl Fn(f64) -> Result<SceneAnswer, SceneAnalysisError>,
+) -> Result<(f64, SceneAnswer), SceneAnalysisError> {
+    let g = crate::analysis::radius::on_grid(x, toward_inside);
+    if g == x {
+        return Ok((x, at_x));
+    }
+    let a = analyse(g)?;
+    Ok(if a.verdict() == Verdict::Certified {
+        (g, a)
+    } else {
+        (x, at_x)
+    })
 }
 
 /// Searches the smallest certified reaction radius of a (validated) scene without lane
@@ -120,7 +148,7 @@ pub fn scene_radius_within(
     }
     let (mut lo, mut hi) = (0.0, cap);
     let mut best = top;
-    let mut below = None;
+    let mut bracketed = false;
     while hi - lo > TOLERANCE {
         let mid = 0.5 * (lo + hi);
         let a = at(scene, mid, &meter)?;
@@ -129,11 +157,17 @@ pub fn scene_radius_within(
             best = a;
         } else {
             lo = mid;
-            below = Some(a);
+            bracketed = true;
         }
     }
+    let (value, best) = certified_on_grid(hi, best, 1.0, |x| at(scene, x, &meter))?;
+    let below = if bracketed && value > PROBE_OFFSET {
+        Some(at(scene, value - PROBE_OFFSET, &meter)?)
+    } else {
+        None
+    };
     Ok(SceneRadius {
-        value: Some(hi),
+        value: Some(value),
         cap,
         at: best,
         below,
@@ -149,7 +183,7 @@ pub struct SceneMaxSpeed {
     pub unbounded: bool,
     /// The analysis at `value` (certified), or at 0 when there is none.
     pub at: SceneAnswer,
-    /// The analysis just above `value` (not certified).
+    /// The analysis [`PROBE_OFFSET`] above `value` (not certified).
     pub above: Option<SceneAnswer>,
 }
 
@@ -197,10 +231,10 @@ pub fn scene_max_speed_within(
     // Grow a bracket [lo certified, hi not], then bisect it.
     let (mut lo, mut best) = (0.0, zero);
     let mut hi = 0.1;
-    let mut above = loop {
+    loop {
         let a = answer(&with_speed(scene, &targets, hi), &meter)?;
         if a.verdict() != Verdict::Certified {
-            break a;
+            break;
         }
         (lo, best) = (hi, a);
         if hi >= SPEED_CEILING {
@@ -212,18 +246,21 @@ pub fn scene_max_speed_within(
             });
         }
         hi = (hi * 2.0).min(SPEED_CEILING);
-    };
+    }
     while hi - lo > TOLERANCE {
         let mid = 0.5 * (lo + hi);
         let a = answer(&with_speed(scene, &targets, mid), &meter)?;
         if a.verdict() == Verdict::Certified {
             (lo, best) = (mid, a);
         } else {
-            (hi, above) = (mid, a);
+            hi = mid;
         }
     }
+    let speed = |w: f64| answer(&with_speed(scene, &targets, w), &meter);
+    let (value, best) = certified_on_grid(lo, best, -1.0, speed)?;
+    let above = speed(value + PROBE_OFFSET)?;
     Ok(SceneMaxSpeed {
-        value: Some(lo),
+        value: Some(value),
         unbounded: false,
         at: best,
         above: Some(above),
@@ -238,10 +275,11 @@ impl SceneMaxSpeed {
                 format!("certified up to the search ceiling {v} m/s")
             }
             (Some(v), Some(a)) => format!(
-                "max obstacle speed {v:.6} m/s (certified; above it: {})",
+                "max obstacle speed {v:.10} m/s (certified; at {:.10}: {})",
+                v + PROBE_OFFSET,
                 a.verdict().as_str()
             ),
-            (Some(v), None) => format!("max obstacle speed {v:.6} m/s (certified)"),
+            (Some(v), None) => format!("max obstacle speed {v:.10} m/s (certified)"),
             (None, _) => format!(
                 "no certified speed bound: even static obstacles give {}",
                 self.at.verdict().as_str()

@@ -138,24 +138,33 @@ fn safe_radius_grows_with_the_obstacle_speed() {
     }
 }
 
-#[test]
-fn max_speed_and_radius_are_inverse() {
-    for (rule, latency) in [
+/// The seed's robot at ρ = 1.3 m under each rule (latency 1, 0 and 2), with its rule.
+fn seed_at_rho_1_3() -> impl Iterator<Item = (DangerRule, Problem)> {
+    [
         (DangerRule::Paper, 1),
         (DangerRule::Area, 0),
         (DangerRule::Kinematic, 2),
-    ] {
+    ]
+    .into_iter()
+    .map(|(rule, latency)| {
         let mut p = problem(0.2, 0.1, 0.05, 0.1, latency, rule, 0.15, 10.0);
         p.controller.reaction_radius = 1.3;
+        (rule, p)
+    })
+}
+
+#[test]
+fn max_speed_and_radius_are_inverse() {
+    for (rule, p) in seed_at_rho_1_3() {
         let w_star = max_speed(&p)
             .expect("searches")
             .value
             .expect("some speed certified");
-        // The boundary is reported within TOLERANCE of the root either way; at the root
-        // itself s* = 0, a collision, and with the kinematic rule ρ = 1.3 is already the
-        // largest radius that changes anything. So the inverse is taken a tolerance inside.
+        // W* is the certified end of its bracket, so the radius search at W* itself has an
+        // answer (at the root s* = 0 and, with the kinematic rule, ρ = 1.3 is already the
+        // largest radius that changes anything).
         let mut q = p.clone();
-        q.environment.obstacle_speed = w_star - safereach::analysis::radius::TOLERANCE;
+        q.environment.obstacle_speed = w_star;
         let rho = safe_radius(&q)
             .expect("searches")
             .value
@@ -177,4 +186,46 @@ fn no_radius_when_the_danger_distance_caps_the_reaction() {
     let why = b.reason.expect("a reason");
     assert!(why.contains("danger distance"), "{why}");
     assert!(!certified_at(&p, 9.0));
+}
+
+/// The problem with its searched parameter set to `value`, analysed: certified, and its
+/// certificate passes the exact check.
+fn assert_certified_at(p: &Problem, value: f64, speed: bool, what: &str) {
+    let mut q = p.clone();
+    if speed {
+        q.environment.obstacle_speed = value;
+    } else {
+        q.controller.reaction_radius = value;
+    }
+    let a = analyse(&q).expect("analyses");
+    assert_eq!(
+        a.verdict,
+        Verdict::Certified,
+        "{what}: {value} is not certified"
+    );
+    check(&Certificate::from_analysis(&a)).expect("the certificate at the boundary verifies");
+}
+
+#[test]
+fn reported_boundaries_are_certified_numbers() {
+    // The number printed is the certified end of the bracket, not its midpoint: on the seed
+    // at rho = 1.3 with the kinematic rule and latency 2 the midpoint lay 5e-11 above W*.
+    for (rule, p) in seed_at_rho_1_3() {
+        let b = max_speed(&p).expect("searches");
+        let w = b.value.expect("some speed certified");
+        assert_certified_at(&p, w, true, &format!("{rule:?} W*"));
+        let at = b.certified.as_ref().expect("the analysis at W*");
+        assert_eq!(at.problem.environment.obstacle_speed, w);
+        // The printed decimal is the value itself.
+        assert!(
+            b.describe(&p).contains(&format!("{w:.10}")),
+            "{}",
+            b.describe(&p)
+        );
+        assert_eq!(format!("{w:.10}").parse::<f64>().expect("a number"), w);
+        let r = safe_radius(&p).expect("searches");
+        let rho = r.value.expect("a radius exists");
+        assert_certified_at(&p, rho, false, &format!("{rule:?} rho*"));
+        assert_eq!(format!("{rho:.10}").parse::<f64>().expect("a number"), rho);
+    }
 }

@@ -196,7 +196,7 @@ fn the_command_line_states_writes_and_refuses() {
     assert_eq!(out.status.code(), Some(0));
     let text = stdout(&out);
     assert!(
-        text.contains("region: certified for every W <= 0.15 m/s at every rho >= 1.070001"),
+        text.contains("region: certified for every W <= 0.15 m/s at every rho >= 1.070000001"),
         "{text}"
     );
     let check = safereach(dir.path())
@@ -232,7 +232,7 @@ fn the_command_line_states_writes_and_refuses() {
         .unwrap();
     assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
     let text = stdout(&out);
-    assert!(text.contains("safe radius 1.070000000 m"), "{text}");
+    assert!(text.contains("safe radius 1.0700000001 m"), "{text}");
     assert!(
         text.contains("region: not established: sensing.first_detection_gap"),
         "{text}"

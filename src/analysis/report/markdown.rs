@@ -232,7 +232,7 @@ fn write_curve_table(md: &mut String, grid: &Grid, curve: &Curve) {
             md,
             "The smallest certified reaction radius for each {}, every other key at its value \
              in the base scene or the grid's single value (`safereach radius` on the scene, to \
-             {:e} m; none is searched above the farthest obstacle start in the robot's lane or \
+             {:e} m, each certified; none is searched above the farthest obstacle start in the robot's lane or \
              the sensing range):\n",
             l.meaning,
             crate::analysis::scene_radius::TOLERANCE
@@ -241,7 +241,7 @@ fn write_curve_table(md: &mut String, grid: &Grid, curve: &Curve) {
         let _ = writeln!(
             md,
             "The smallest certified reaction radius for each obstacle speed bound W \
-             (`safereach radius`, to 1e-9 m), per slice: the base problem with the slice's \
+             (`safereach radius`, to 1e-10 m, each certified), per slice: the base problem with the slice's \
              values of the other axes.\n"
         );
     }
@@ -254,8 +254,10 @@ fn write_curve_table(md: &mut String, grid: &Grid, curve: &Curve) {
         }
         let _ = writeln!(md, "| {w} ({}) | ρ* (m) |\n|---|---|", l.unit);
         for (w, rho) in &c.points {
+            // Ten decimals: the searches answer on that grid, so the number shown is the
+            // certified radius itself (fewer would round it down, to the unsafe side).
             let rho = rho
-                .map(|r| format!("{r:.6}"))
+                .map(|r| format!("{r:.10}"))
                 .unwrap_or_else(|| "none".into());
             let _ = writeln!(md, "| {w} | {rho} |");
         }
