@@ -12,11 +12,16 @@
 //! Monte Carlo does ([`LateObserver`]): every error makes the obstacle look farther and
 //! slower (or already passed, where the noise allows), and with occlusion the odd runs
 //! keep every obstacle hidden as late as the premise allows.
+//!
+//! As the single-obstacle Monte Carlo, runs step the semantics in the number type of the
+//! parameters given: exact ones (what `simulate` uses) decide every guard as a replay does,
+//! each drawn speed and start read as the decimal its float prints as.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::core::num::Scalar;
 use crate::core::scene::SceneParams;
 use crate::core::scene::simulate::{SceneRun, horizon, run_observing};
 use crate::core::semantics::Observation;
@@ -165,30 +170,32 @@ impl RandomBehaviour {
 ///   and is shown from the last observation that surely does — a pedestrian stepping out
 ///   as late as the premise allows (`simulate::run_hiding_late`).
 #[derive(Clone, Debug)]
-pub struct LateObserver {
-    sigma_g: f64,
-    sigma_w: f64,
+pub struct LateObserver<N> {
+    sigma_g: N,
+    sigma_w: N,
     /// Per obstacle: the least true gap it may still be hidden at (None: shown).
-    hide_above: Vec<Option<f64>>,
+    hide_above: Vec<Option<N>>,
     latency: usize,
 }
 
-impl LateObserver {
+impl<N: Scalar> LateObserver<N> {
     /// The observer of a run; `hide_late`: hide every obstacle as late as allowed (only
     /// with occlusion).
-    pub fn new(params: &SceneParams<f64>, hide_late: bool) -> LateObserver {
+    pub fn new(params: &SceneParams<N>, hide_late: bool) -> LateObserver<N> {
         let p = &params.robot;
         let hide_above = params
             .obstacles
             .iter()
             .map(|o| match (&p.d_det, hide_late) {
-                (Some(d), true) => Some(d + (p.v_max + o.max_speed) * p.dt),
+                (Some(d), true) => {
+                    Some(d.clone() + (p.v_max.clone() + o.max_speed.clone()) * p.dt.clone())
+                }
                 _ => None,
             })
             .collect();
         LateObserver {
-            sigma_g: p.sigma_g,
-            sigma_w: p.sigma_w,
+            sigma_g: p.sigma_g.clone(),
+            sigma_w: p.sigma_w.clone(),
             hide_above,
             latency: p.L,
         }
@@ -196,25 +203,20 @@ impl LateObserver {
 
     /// What the robot is shown of obstacle i at step k's start, whose true observation is
     /// `truth` (None: hidden).
-    pub fn show(
-        &mut self,
-        i: usize,
-        k: usize,
-        truth: Observation<f64>,
-    ) -> Option<Observation<f64>> {
-        if let Some(above) = self.hide_above[i] {
-            if truth.gap >= above {
+    pub fn show(&mut self, i: usize, k: usize, truth: Observation<N>) -> Option<Observation<N>> {
+        if let Some(above) = &self.hide_above[i] {
+            if truth.gap >= *above {
                 return None;
             }
             self.hide_above[i] = None;
         }
-        let gap = if truth.gap - self.sigma_g <= 0.0 {
-            truth.gap - self.sigma_g
+        let gap = if truth.gap.clone() - self.sigma_g.clone() <= N::zero() {
+            truth.gap - self.sigma_g.clone()
         } else {
-            truth.gap + self.sigma_g
+            truth.gap + self.sigma_g.clone()
         };
         let speed = if k > self.latency {
-            truth.speed - self.sigma_w
+            truth.speed - self.sigma_w.clone()
         } else {
             truth.speed
         };
@@ -226,21 +228,21 @@ impl LateObserver {
 /// `[sensing]` the [`LateObserver`]'s observations (hiding late in the odd runs), until the
 /// robot rests, collides (if `stop_at_collision`), nothing can happen any more, or
 /// `max_steps` periods. `simulate --trace` replays the closest run so.
-pub fn scene_monte_carlo_run(
-    params: &SceneParams<f64>,
+pub fn scene_monte_carlo_run<N: Scalar>(
+    params: &SceneParams<N>,
     seed: u64,
     run: usize,
     patterns: &[SpeedPattern],
     max_steps: usize,
     stop_at_collision: bool,
-) -> SceneRun<f64> {
-    let mut behaviour = RandomBehaviour::new(params, seed, run, patterns);
-    let starts = behaviour.starts.clone();
+) -> SceneRun<N> {
+    let mut behaviour = RandomBehaviour::new(&params.map(Scalar::as_f64), seed, run, patterns);
+    let starts = behaviour.starts.iter().map(|&x| N::decimal(x)).collect();
     let hide_late = params.robot.d_det.is_some() && run % 2 == 1;
     let mut observer = LateObserver::new(params, hide_late);
     run_observing(
         params.clone(),
-        |j, _| behaviour.next_speed(j),
+        |j, _| N::decimal(behaviour.next_speed(j)),
         |i, k, truth| observer.show(i, k, truth),
         starts,
         max_steps,
@@ -283,13 +285,14 @@ pub struct SceneMonteCarlo {
 
 /// Simulates `runs` random behaviours of the scene (each obstacle's pattern drawn from
 /// `patterns`), each until the robot rests, collides, or nothing can happen any more.
-pub fn scene_monte_carlo(
-    params: &SceneParams<f64>,
+pub fn scene_monte_carlo<N: Scalar>(
+    params: &SceneParams<N>,
     runs: usize,
     seed: u64,
     patterns: &[SpeedPattern],
 ) -> SceneMonteCarlo {
-    let max = horizon(params);
+    let max = horizon(&params.map(Scalar::as_f64));
+    let mut least: Option<N> = None;
     let mut summary = SceneMonteCarlo {
         runs,
         collisions: 0,
@@ -312,14 +315,16 @@ pub fn scene_monte_carlo(
         summary.collisions += usize::from(outcome.collided);
         for (total, o) in summary.obstacles.iter_mut().zip(&outcome.obstacles) {
             total.collisions += usize::from(o.collided);
-            if let Some(s) = o.sep {
+            if let Some(s) = &o.sep {
+                let s = s.as_f64();
                 total.min_separation = Some(total.min_separation.map_or(s, |m| m.min(s)));
             }
         }
         if let Some((j, s)) = outcome.min_separation()
-            && summary.min_separation.is_none_or(|m| s < m)
+            && least.as_ref().is_none_or(|m| s < *m)
         {
-            summary.min_separation = Some(s);
+            summary.min_separation = Some(s.as_f64());
+            least = Some(s);
             summary.closest_obstacle = Some(params.obstacles[j].name.clone());
             summary.closest_run = i;
         }
@@ -332,6 +337,7 @@ mod tests {
     use super::*;
     use crate::analysis::monte_carlo;
     use crate::core::model::Problem;
+    use crate::core::rational::Rational;
     use crate::core::scene::{Obstacle, Position, Scene};
 
     fn seed_problem(w: f64) -> Problem {
@@ -362,9 +368,14 @@ mod tests {
                 speed_noise: Some(s),
                 first_detection_gap: d,
             });
-            let old = monte_carlo(&problem.params::<f64>(), 200, 7);
+            let old = monte_carlo(&problem.params::<Rational>(), 200, 7);
             let scene = Scene::from_problem(&problem);
-            let new = scene_monte_carlo(&scene.params(), 200, 7, &[SpeedPattern::Uniform]);
+            let new = scene_monte_carlo(
+                &scene.params::<Rational>(),
+                200,
+                7,
+                &[SpeedPattern::Uniform],
+            );
             assert_eq!(old.collisions, new.collisions, "W = {w}, {sensing:?}");
             assert_eq!(
                 Some(old.min_separation),
@@ -400,8 +411,8 @@ mod tests {
             is_static: false,
         });
         let patterns = &SpeedPattern::ALL;
-        let a = scene_monte_carlo(&alone.params(), 100, 3, patterns);
-        let b = scene_monte_carlo(&crowded.params(), 100, 3, patterns);
+        let a = scene_monte_carlo(&alone.params::<Rational>(), 100, 3, patterns);
+        let b = scene_monte_carlo(&crowded.params::<Rational>(), 100, 3, patterns);
         assert_eq!(a.collisions, b.collisions);
         assert_eq!(a.min_separation, b.min_separation);
         assert_eq!(a.obstacles[0], b.obstacles[0]);

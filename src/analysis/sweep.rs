@@ -98,7 +98,8 @@ fn scene_cell(
         reason: e.to_string(),
     })?;
     let mc = (runs > 0).then(|| {
-        crate::analysis::scene_monte_carlo(&scene.params(), runs, seed, &[SpeedPattern::Uniform])
+        let exact = scene.params::<crate::core::rational::Rational>();
+        crate::analysis::scene_monte_carlo(&exact, runs, seed, &[SpeedPattern::Uniform])
     });
     Ok(CellResult {
         cell,
@@ -173,8 +174,8 @@ impl Grid {
             reason: e.to_string(),
         })?;
         let axes = axes_map(&values);
-        let mc =
-            (runs > 0).then(|| crate::analysis::monte_carlo(&problem.params::<f64>(), runs, seed));
+        let exact = || problem.params::<crate::core::rational::Rational>();
+        let mc = (runs > 0).then(|| crate::analysis::monte_carlo(&exact(), runs, seed));
         Ok(CellResult {
             cell,
             axes,

@@ -9,6 +9,7 @@ use anyhow::{Context, Result};
 use safereach::analysis::{SpeedPattern, scene_monte_carlo, scene_monte_carlo_run};
 use safereach::core::num::Exact;
 use safereach::core::output::scene_trace_for_path;
+use safereach::core::rational::Rational;
 use safereach::core::scene::{Scene, simulate};
 use safereach::core::show::{up, value};
 use safereach::proof::certificate_file::CertificateFile;
@@ -132,7 +133,8 @@ pub fn replay(
 
 /// Random runs; the trace written is the run that came closest.
 pub fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Exit> {
-    let params = scene.params::<f64>();
+    // Exact numbers: every guard decides as a replay does (see analysis::scene_monte_carlo).
+    let params = scene.params::<Rational>();
     let patterns = SpeedPattern::ALL;
     let mc = scene_monte_carlo(&params, args.runs, args.seed, &patterns);
     if let Some(trace) = &args.trace {
@@ -141,7 +143,7 @@ pub fn random(scene: &Scene, args: &SimulateArgs, out: &mut Output) -> Result<Ex
             args.seed,
             mc.closest_run,
             &patterns,
-            simulate::horizon(&params),
+            simulate::horizon(&scene.params::<f64>()),
             false,
         );
         let rows = simulate::trace(&params, &run);

@@ -11,6 +11,7 @@ use safereach::core::budget::{Budget, Work};
 use safereach::core::model::Problem;
 use safereach::core::num::Exact;
 use safereach::core::output::trace_for_path;
+use safereach::core::rational::Rational;
 use safereach::core::show::{up, value};
 use safereach::core::simulate;
 use safereach::proof::certificate::Certificate;
@@ -232,12 +233,13 @@ fn random(
     json: bool,
     out: &mut Output,
 ) -> Result<Exit> {
-    let floats = analysis::params_f64(&problem.params::<Exact>());
-    let mc = analysis::monte_carlo(&floats, runs, seed);
+    // Exact numbers: every guard decides as a replay does (see analysis::monte_carlo).
+    let exact = problem.params::<Rational>();
+    let mc = analysis::monte_carlo(&exact, runs, seed);
     if let Some(path) = trace {
-        let max = simulate::horizon(&floats);
-        let run = analysis::monte_carlo_run(&floats, seed, mc.closest_run, max, false);
-        let rows = simulate::trace(&floats, &run);
+        let max = simulate::horizon(&analysis::params_f64(&problem.params::<Exact>()));
+        let run = analysis::monte_carlo_run(&exact, seed, mc.closest_run, max, false);
+        let rows = simulate::trace(&exact, &run);
         write_file(path, trace_for_path(path, &rows, "0").as_bytes())?;
     }
     if json {

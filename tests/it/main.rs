@@ -45,6 +45,7 @@ mod scene_search;
 mod scene_sensing;
 mod scene_uppaal;
 mod schemas;
+mod simulate_within_certificate;
 mod slurm_cluster;
 mod sweep;
 mod sweep_report;

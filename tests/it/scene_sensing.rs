@@ -17,7 +17,8 @@ use safereach::analysis::{
     SpeedPattern, Verdict, analyse, scene_monte_carlo, scene_monte_carlo_run,
 };
 use safereach::core::model::{DangerRule, Problem, Sensing};
-use safereach::core::num::Exact;
+use safereach::core::num::{Exact, Scalar};
+use safereach::core::rational::Rational;
 use safereach::core::scene::{Obstacle, Position, Scene, simulate};
 use safereach::crosscheck::explore::scene::{SceneExploration, SceneSpeeds, explore_scene};
 use safereach::crosscheck::explore::{ExploreVerdict, Options};
@@ -570,7 +571,7 @@ fn scene_monte_carlo_plays_noise_and_occlusion_within_the_premises() {
             first_detection_gap: d,
         });
         scene.validate("test").expect("valid");
-        let mc = scene_monte_carlo(&scene.params(), runs, 3, &SpeedPattern::ALL);
+        let mc = scene_monte_carlo(&scene.params::<Rational>(), runs, 3, &SpeedPattern::ALL);
         (certify(&scene), scene, mc)
     };
     for sensing in [
@@ -587,8 +588,8 @@ fn scene_monte_carlo_plays_noise_and_occlusion_within_the_premises() {
     let (cert, scene, mc) = mc_of(Some((0.0, 0.0, Some(0.5))));
     assert_eq!(cert.verdict, Verdict::Refuted);
     assert!(mc.collisions > runs / 4, "{} collisions", mc.collisions);
-    let params = scene.params::<f64>();
-    let max = safereach::core::scene::simulate::horizon(&params);
+    let params = scene.params::<Rational>();
+    let max = safereach::core::scene::simulate::horizon(&scene.params::<f64>());
     for i in 0..runs {
         let run = scene_monte_carlo_run(&params, 3, i, &SpeedPattern::ALL, max, true);
         assert!(
@@ -598,7 +599,7 @@ fn scene_monte_carlo_plays_noise_and_occlusion_within_the_premises() {
     }
     let closest = scene_monte_carlo_run(&params, 3, mc.closest_run, &SpeedPattern::ALL, max, true);
     assert_eq!(
-        closest.outcome.min_separation().map(|(_, s)| s),
+        closest.outcome.min_separation().map(|(_, s)| s.as_f64()),
         mc.min_separation
     );
 }
