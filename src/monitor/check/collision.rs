@@ -48,17 +48,20 @@ impl Monitor {
         w: f64,
     ) {
         let gap = s.obstacle_x - s.robot_x;
-        // The robot occupied the obstacle's lane at its last sample (so the step counts), or
-        // this is its first sample (the step counts up to this one).
-        let before = track.seen && track.ahead.is_some();
         if s.robot_v > 0.0 {
-            let receding = ahead && before && s.obstacle_x > track.x;
-            let set_off = !ahead && before && self.motion.from_rest;
-            if !(receding || set_off) {
+            // The usual case, an obstacle ahead that came no farther away: the gap is lowest
+            // at the sample. Otherwise the step may hold a lower separation.
+            let plain = if ahead {
+                s.obstacle_x <= track.x || !track.seen
+            } else {
+                !self.motion.from_rest
+            };
+            if plain || track.ahead.is_none() {
                 self.check_collision(s, if ahead { gap } else { -gap }, 0.0);
                 return;
             }
-        } else if !(self.motion.moved && (before || !track.seen)) {
+        } else if !self.motion.moved || (track.seen && track.ahead.is_none()) {
+            // At rest all step long, or not in the obstacle's lane at its last sample.
             return;
         }
         self.check_step(s, track, ahead, gap, w);
@@ -104,7 +107,7 @@ impl Monitor {
 
     /// `collision` at `separation` (the sample's, or the least of the step before it) with
     /// `extra` rounding of how it was derived.
-    #[inline]
+    #[inline(always)]
     fn check_collision(&mut self, s: &Sample, separation: f64, extra: f64) {
         self.check_collision_with(s, separation, extra, None);
     }
@@ -113,7 +116,7 @@ impl Monitor {
     /// the gap (and `extra`) and the observation noise σ_g (taken in the robot's favour: a
     /// collision is reported only when every true gap the observation allows is one; so a
     /// full-precision trace of a safe run, or one with noise within σ_g, raises nothing).
-    #[inline]
+    #[inline(always)]
     fn check_collision_with(
         &mut self,
         s: &Sample,

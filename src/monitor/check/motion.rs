@@ -69,15 +69,16 @@ fn speeding(v0: f64, a: f64, top: f64, span: f64) -> f64 {
     if a <= 0.0 {
         return v0 * span;
     }
-    if a == f64::INFINITY {
+    // Cruising at the top, and speeding up all step long, need no division (the common
+    // cases: this runs once per instant).
+    if a == f64::INFINITY || v0 >= top {
         return top * span;
     }
-    let r = (top - v0) / a;
-    if r >= span {
-        v0 * span + a * span * span / 2.0
-    } else {
-        v0 * r + a * r * r / 2.0 + top * (span - r)
+    if top - v0 >= a * span {
+        return v0 * span + a * span * span / 2.0;
     }
+    let r = (top - v0) / a;
+    v0 * r + a * r * r / 2.0 + top * (span - r)
 }
 
 /// The distance covered in `span` from speed `v0`, slowing at `b` until at rest.
