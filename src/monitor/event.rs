@@ -92,6 +92,15 @@ pub enum Detail {
     AboveAcceleration,
     /// `observation_dropout`: the obstacle was last seen inside the reaction area.
     Dropout,
+    /// `robot_motion`: the robot moved (m) while its mode (`stop` or `idle`) says it stands.
+    MovedWhileStanding,
+    /// `robot_motion`: the robot moved (m) farther than its speeds and mode allow.
+    MovedTooFar,
+    /// `robot_motion`: the robot moved (m) less far than its speeds and mode allow.
+    MovedTooLittle,
+    /// `collision`: the least separation the premises allow within the step that ended at
+    /// the sample, while the robot still moved.
+    WithinStep,
     /// A bag message that is not CDR of its topic's type (what is wrong).
     BadMessage(&'static str),
     /// A bag topic the monitor was told to read, of a type it does not read.
@@ -100,6 +109,17 @@ pub enum Detail {
     NoLaneAxis,
     /// The bag itself is corrupt or truncated (what is wrong); reading stops.
     CorruptBag(&'static str),
+}
+
+impl Detail {
+    /// How observed and bound compare, where this detail says it differently from its
+    /// check's [`Check::relation`] (`robot_motion` below its least: `<`).
+    pub fn relation(self) -> Option<&'static str> {
+        match self {
+            Detail::MovedTooLittle => Some("<"),
+            _ => None,
+        }
+    }
 }
 
 impl fmt::Display for Detail {
@@ -154,6 +174,22 @@ impl fmt::Display for Detail {
             Detail::AboveAcceleration => f.write_str("robot acceleration (m/s^2) above a"),
             Detail::Dropout => f.write_str(
                 "last observed gap (m) inside the reaction radius rho, and the next instant came without this obstacle",
+            ),
+            Detail::MovedWhileStanding => f.write_str(
+                "robot displacement (m) since the previous instant, in mode stop or idle, which stands still",
+            ),
+            Detail::MovedTooFar => f.write_str(
+                "robot displacement (m) since the previous instant beyond the most its speeds and mode allow \
+                 (speed up to v_max, speeding up at most at a, slowing at least at b while braking)",
+            ),
+            Detail::MovedTooLittle => f.write_str(
+                "robot displacement (m) since the previous instant below the least its speeds and mode allow \
+                 (speeding up at most at a, slowing at least at b while braking)",
+            ),
+            Detail::WithinStep => f.write_str(
+                "the least separation (m) the premises allow while the robot moved within the step \
+                 before this sample (the robot moving on to where this sample shows it, for as long as \
+                 braking at b from its last speed allows; the obstacle approaching at up to its bound)",
             ),
             Detail::BadMessage(what) => write!(f, "unreadable bag message: {what}"),
             Detail::UnknownMessageType => f.write_str(
@@ -210,10 +246,11 @@ impl fmt::Display for Event {
         if let (Some(o), Some(b)) = (self.observed, self.bound) {
             let unit = self.check.unit();
             let sep = if unit.is_empty() { "" } else { " " };
+            let relation = self.detail.and_then(Detail::relation);
             write!(
                 f,
                 " observed {o}{sep}{unit} {} bound {b}{sep}{unit}",
-                self.check.relation()
+                relation.unwrap_or(self.check.relation())
             )?;
         } else if let Some(o) = self.observed {
             write!(f, " observed {o} {}", self.check.unit())?;

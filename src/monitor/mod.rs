@@ -75,7 +75,8 @@
 //! | `observation_dropout` | an obstacle last seen inside the reaction area is missing from a later instant |
 //! | `controller_reaction` | (with `robot_mode`) the robot is not braking (in scenes: nor changing lanes or out of the obstacle's lane) at the instant its observation shows danger for every gap within σ_g, or a wrong assumption |
 //! | `robot_envelope` | the robot's speed above v_max, or its acceleration above a, beyond the stated tolerance |
-//! | `collision` | the robot moving with a gap ≤ clearance (noise in the robot's favour): the gravest event, reported even when every premise held |
+//! | `robot_motion` | the robot's displacement between instants beyond the most, or below the least, that its two speeds, its mode and a, b, v_max allow (a robot in `stop` or `idle` does not move) |
+//! | `collision` | the robot moving with a gap ≤ clearance (noise in the robot's favour), at an instant or, with the worst motion the premises allow, within the step before it (it moved, by its speed or its positions, and came to rest): the gravest event, reported even when every premise held |
 //!
 //! and four fail-safe checks on the input itself; a sample that fails one is reported and
 //! otherwise ignored (it changes no state), and the monitor goes on:
@@ -90,8 +91,9 @@
 //! **Instants.** Samples with equal `t` form one instant: the robot's control step, at which
 //! it sees several obstacles. Within an instant obstacles come in any order, each at most once,
 //! all with the same robot state; instants come in order of increasing `t`.
-//! Robot checks (`control_period` between instants, `braking_deceleration`) run on the first
-//! sample of each instant, obstacle checks on every sample.
+//! Robot checks (`control_period` between instants, `braking_deceleration`,
+//! `robot_envelope`, `robot_motion`) run on the first sample of each instant, obstacle checks
+//! on every sample.
 //!
 //! An obstacle is checked against ρ at its first sighting only. One that drops out of the
 //! trace while outside the reaction area is fine; inside it, the missed instant is an
@@ -165,7 +167,7 @@ mod summary;
 pub mod trace;
 
 pub use check::{BehaviourCheck, Bounds, Check, FailSafe, SceneCheck};
-use check::{Carried, Fast};
+use check::{Carried, Fast, Motion};
 use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
@@ -414,6 +416,8 @@ pub struct Monitor {
     obstacles: Vec<Track>,
     /// The current instant, once there is one.
     robot: Option<RobotAt>,
+    /// What the robot's motion over the step that ended at the current instant showed.
+    motion: Motion,
     /// The robot's lanes at the current instant (`robot`, `leaving`), as far as its samples
     /// state them; kept by a scene certificate's monitor only.
     robot_lanes: Lanes,
@@ -520,6 +524,7 @@ impl Monitor {
             max_obstacles,
             obstacles: vec![Track::default(); reserve],
             robot: None,
+            motion: Motion::NONE,
             robot_lanes: Lanes::UNKNOWN,
             instant: 0,
             samples: 0,
@@ -778,8 +783,9 @@ impl Monitor {
     ) {
         if let Some(r) = previous {
             self.check_period(r.t, s);
-            self.check_braking(&r, s);
-            self.check_acceleration(&r, s);
+            let braked = self.check_braking(&r, s);
+            let accelerated = self.check_acceleration(&r, s);
+            self.check_motion(&r, s, braked, accelerated);
             self.check_dropouts(s);
             self.instant += 1;
         }

@@ -226,7 +226,8 @@ impl Monitor {
                         BehaviourCheck::RobotEnvelope => Some(self.rule.moving.v_max),
                         BehaviourCheck::ObservationDropout => Some(self.rule.moving.rho),
                         BehaviourCheck::ObservationInconsistent
-                        | BehaviourCheck::ControllerReaction => None,
+                        | BehaviourCheck::ControllerReaction
+                        | BehaviourCheck::RobotMotion => None,
                     };
                     self.check_summary(Check::Behaviour(c), c.row(), bound)
                 })

@@ -27,6 +27,7 @@ mod init_cli;
 mod monitor;
 mod monitor_bag;
 mod monitor_cli;
+mod monitor_motion;
 mod monitor_real;
 mod monitor_region;
 mod monitor_scene;

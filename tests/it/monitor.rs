@@ -363,30 +363,38 @@ fn obstacle_speed_observed_and_estimated() {
 #[test]
 fn braking_deceleration() {
     let mut m = seed_monitor();
-    let brake = |t: f64, v: f64| Sample {
+    // The robot at x, slowing uniformly from one speed to the next: it moves their mean
+    // over the period.
+    let brake = |t: f64, x: f64, v: f64| Sample {
         robot_mode: Some(Mode::Brake),
         robot_v: v,
+        robot_x: x,
         ..at(t, 0, 1e4)
     };
+    let mean = |v0: f64, v1: f64| (v0 + v1) / 2.0 * 0.1;
     // b·dt = 0.005 m/s per period: 0.2 → 0.195 holds, 0.195 → 0.191 does not.
-    assert!(checks(&mut m, &brake(0.0, 0.2)).is_empty());
-    assert!(checks(&mut m, &brake(0.1, 0.195)).is_empty());
-    let o = m.observe(&brake(0.2, 0.191));
+    let x1 = mean(0.2, 0.195);
+    let x2 = x1 + mean(0.195, 0.191);
+    assert!(checks(&mut m, &brake(0.0, 0.0, 0.2)).is_empty());
+    assert!(checks(&mut m, &brake(0.1, x1, 0.195)).is_empty());
+    let o = m.observe(&brake(0.2, x2, 0.191));
+    assert_eq!(o.events.len(), 1, "{:?}", o.events);
     let e = o.events[0];
     assert_eq!(e.check, Check::BrakingDeceleration);
     assert!((e.observed.unwrap() - 0.04).abs() < 1e-9);
     assert_eq!(e.bound, Some(0.05));
     // Speeding up while braking is a violation too.
     assert_eq!(
-        checks(&mut m, &brake(0.3, 0.2)),
+        checks(&mut m, &brake(0.3, x2 + mean(0.191, 0.2), 0.2)),
         [Check::BrakingDeceleration]
     );
-    // A robot that stops inside the step (0.003 m/s needs 0.06 s) is fine.
+    // A robot that stops inside the step (0.003 m/s needs 0.06 s, and 0.00009 m) is fine.
     let mut m = seed_monitor();
-    assert!(checks(&mut m, &brake(0.0, 0.003)).is_empty());
-    assert!(checks(&mut m, &brake(0.1, 0.0)).is_empty());
+    let rest = 0.003 * 0.003 / (2.0 * 0.05);
+    assert!(checks(&mut m, &brake(0.0, 0.0, 0.003)).is_empty());
+    assert!(checks(&mut m, &brake(0.1, rest, 0.0)).is_empty());
     // At rest in brake: nothing to check.
-    assert!(checks(&mut m, &brake(0.2, 0.0)).is_empty());
+    assert!(checks(&mut m, &brake(0.2, rest, 0.0)).is_empty());
     // Not braking: no check, even if it slows slowly.
     let mut m = seed_monitor();
     assert!(checks(&mut m, &at(0.0, 0, 10.0)).is_empty());
@@ -401,12 +409,13 @@ fn braking_deceleration() {
         .is_empty()
     );
     assert_eq!(m.checks(Check::BrakingDeceleration), 0);
-    // Exactly b, with speeds and times of a long run in floats: no false alarm.
+    // Exactly b, with speeds, positions and times of a long run in floats: no false alarm.
     let mut m = seed_monitor();
-    let mut v: f64 = 0.2;
+    let (mut v, mut x): (f64, f64) = (0.2, 500.0);
     for k in 0..40 {
         let t = 1000.0 + k as f64 * 0.1;
-        assert!(checks(&mut m, &brake(t, v)).is_empty(), "k = {k}");
+        assert!(checks(&mut m, &brake(t, x, v)).is_empty(), "k = {k}");
+        x += v * 0.1 - 0.05 * 0.1 * 0.1 / 2.0;
         v -= 0.05 * 0.1;
     }
 }
@@ -485,7 +494,7 @@ fn first_detection_gap() {
     let got = checks(
         &mut m,
         &Sample {
-            robot_x: 0.3,
+            robot_x: 0.32,
             ..at(0.1, 0, 1.69)
         },
     );

@@ -248,9 +248,11 @@ fn robot_envelope() {
         cert.problem.robot.max_speed,
         cert.problem.robot.acceleration,
     );
+    // The robot where speeding up uniformly from rest to v over t puts it (a robot whose
+    // positions agree with its speeds: `robot_motion` is not what is tested here).
     let robot = |t: f64, v: f64| RobotSample {
         t,
-        robot_x: 0.0,
+        robot_x: v * t / 2.0,
         robot_v: v,
         robot_mode: Some(Mode::Accelerate),
     };
@@ -271,14 +273,19 @@ fn robot_envelope() {
     assert_eq!((e.check, e.bound), (Check::RobotEnvelope, Some(a)));
     assert!(e.detail.unwrap().to_string().contains("acceleration"));
     assert_eq!(e.obstacle_id, None);
+    // Driving at v_max, then a little faster: it covers v_max·t.
+    let driving = |t: f64, v: f64| RobotSample {
+        robot_x: v_max * t,
+        ..robot(t, v)
+    };
     let mut m = Monitor::new(&cert).unwrap();
     assert!(
-        m.observe_robot(&robot(0.0, v_max), Lanes::UNKNOWN)
+        m.observe_robot(&driving(0.0, v_max), Lanes::UNKNOWN)
             .events
             .is_empty()
     );
     let e = m
-        .observe_robot(&robot(0.1, v_max * 1.01), Lanes::UNKNOWN)
+        .observe_robot(&driving(0.1, v_max * 1.01), Lanes::UNKNOWN)
         .events[0];
     assert_eq!((e.check, e.bound), (Check::RobotEnvelope, Some(v_max)));
     assert!(e.detail.unwrap().to_string().contains("speed"));
@@ -415,14 +422,35 @@ fn margins_are_the_smallest_slack_and_where() {
         .unwrap();
     assert_eq!(speed.margin, Some(margin));
     // The closest the robot came while moving: the collision check's margin is the least
-    // moving gap.
+    // moving gap, or the gap at which the robot came to rest inside the step into rest, the
+    // obstacle approaching at W until then but not nearer than the rest sample shows it
+    // (the worst case the witness replays: the certified s*, within its tolerance and the
+    // witness's margin).
     let closest = trace
         .iter()
         .filter(|s| s.robot_v > 0.0)
         .map(|s| s.obstacle_x - s.robot_x)
         .fold(f64::INFINITY, f64::min);
+    let into_rest = trace
+        .windows(2)
+        .find(|p| p[0].robot_v > 0.0 && p[1].robot_v == 0.0)
+        .expect("the witness brakes to rest");
+    let b = cert.problem.robot.plant_braking();
+    let (before, after) = (into_rest[0], into_rest[1]);
+    let nearest = (before.obstacle_x - w * before.robot_v / b).max(after.obstacle_x);
+    let rest = nearest - after.robot_x;
+    assert!(rest < closest);
     let collision = m.margin(Check::Collision).unwrap();
-    assert_eq!(collision.slack, closest - cert.clearance);
+    assert!(
+        (collision.slack - (rest - cert.clearance)).abs() < 1e-12,
+        "{collision:?}"
+    );
+    assert_eq!(collision.t, into_rest[1].t);
+    let tolerance = cert.separation_tolerance + cert.witness.as_ref().unwrap().margin;
+    assert!(
+        (collision.slack - cert.min_separation.unwrap()).abs() <= tolerance,
+        "{collision:?}"
+    );
 }
 
 /// README's commands: the seed certified for 2 mm / 0.01 m/s of noise, and the noisy

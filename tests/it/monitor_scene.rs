@@ -429,16 +429,43 @@ fn a_named_obstacle_outside_its_lane_is_flagged() {
 // ------------------------------------------------------------------------------------------
 
 /// The samples the rows say are collisions: the robot moving with an obstacle ahead at a
-/// gap ≤ clearance, in its lane (`lanes`) or in any lane (`!lanes`). (Every obstacle of these
-/// runs starts ahead, and the robot keeps lane 0.)
-fn collisions(rows: &[SceneTraceRow], clearance: f64, lanes: bool) -> Vec<(f64, String)> {
+/// gap ≤ clearance, or coming to rest within the step before the sample at a gap below it
+/// (docs/semantics.md §6: braking at b_min from v, it rests v/b_min after the step's start,
+/// the obstacle at its constant speed of the step), in its lane (`lanes`) or in any lane
+/// (`!lanes`). (Every obstacle of these runs starts ahead, and the robot keeps lane 0.)
+fn collisions(
+    rows: &[SceneTraceRow],
+    clearance: f64,
+    b_min: f64,
+    lanes: bool,
+) -> Vec<(f64, String)> {
     // No gap on the clearance itself, where rounding would decide.
     assert!(
         rows.iter()
             .all(|r| r.row.robot_speed == 0.0 || (r.row.gap - clearance).abs() > 1e-9)
     );
+    let previous = |k: usize| {
+        rows[..k]
+            .iter()
+            .rev()
+            .find(|p| p.obstacle == rows[k].obstacle)
+    };
     rows.iter()
-        .filter(|r| r.row.robot_speed > 0.0 && r.row.gap <= clearance)
+        .enumerate()
+        .filter(|&(k, r)| {
+            let r = &r.row;
+            if r.robot_speed > 0.0 {
+                return r.gap <= clearance;
+            }
+            previous(k).is_some_and(|p| {
+                let p = &p.row;
+                let rest = p.gap
+                    - p.obstacle_speed * p.robot_speed / b_min
+                    - (r.robot_position - p.robot_position);
+                p.robot_speed > 0.0 && rest < clearance
+            })
+        })
+        .map(|(_, r)| r)
         .filter(|r| !lanes || r.obstacle_lane == r.robot_lane)
         .map(|r| (r.row.t, r.obstacle.clone()))
         .collect()
@@ -463,8 +490,9 @@ fn collisions_are_the_rows_collisions_in_the_robots_lanes() {
     let cert = certified(&scene);
     let fast = with(&scene, "first", |o| o.max_speed = 0.6);
     let rows = at_full_speed(&fast);
-    let in_lane = collisions(&rows, cert.clearance, true);
-    let anywhere = collisions(&rows, cert.clearance, false);
+    let b_min = fast.robot.plant_braking();
+    let in_lane = collisions(&rows, cert.clearance, b_min, true);
+    let anywhere = collisions(&rows, cert.clearance, b_min, false);
     assert!(!in_lane.is_empty(), "the fast obstacle hits the robot");
     let csv = scene_trace_csv(&rows);
     let events = events_of(&cert, &csv, Format::Csv);
@@ -489,7 +517,7 @@ fn lane_columns_present_and_absent() {
     let scene = oncoming();
     let cert = certified(&scene);
     let rows = at_full_speed(&scene);
-    let beside = collisions(&rows, cert.clearance, false);
+    let beside = collisions(&rows, cert.clearance, scene.robot.plant_braking(), false);
     assert!(beside.iter().all(|(_, o)| o == "box"));
     assert!(!beside.is_empty(), "the robot drives past the box");
     let csv = scene_trace_csv(&rows);

@@ -6,8 +6,8 @@
 //!
 //! Their rows (unit, relation, reasons) are [`PremiseCheck`]s like the premises'; the checks
 //! themselves are in `obstacle.rs` (`observation_inconsistent`), `controller.rs`
-//! (`controller_reaction`, `robot_envelope`, `observation_dropout`) and `lanes.rs`
-//! (`collision`).
+//! (`controller_reaction`, `robot_envelope`, `observation_dropout`), `motion.rs`
+//! (`robot_motion`) and `collision.rs` (`collision`).
 
 use super::{Carried, PremiseCheck};
 
@@ -24,6 +24,10 @@ pub enum BehaviourCheck {
     ControllerReaction,
     /// The robot's speed above v_max, or its acceleration between instants above a.
     RobotEnvelope,
+    /// The robot's displacement between instants is not one its speeds, its mode and the
+    /// certified dynamics allow (it moved while reporting speed 0, or farther or less far
+    /// than its speeds explain).
+    RobotMotion,
     /// The robot moved with an obstacle at a separation ≤ clearance: a collision, the
     /// gravest event, whatever the premises say.
     Collision,
@@ -31,11 +35,12 @@ pub enum BehaviourCheck {
 
 impl BehaviourCheck {
     /// Every behaviour check, in output order.
-    pub const ALL: [BehaviourCheck; 5] = [
+    pub const ALL: [BehaviourCheck; 6] = [
         BehaviourCheck::ObservationInconsistent,
         BehaviourCheck::ObservationDropout,
         BehaviourCheck::ControllerReaction,
         BehaviourCheck::RobotEnvelope,
+        BehaviourCheck::RobotMotion,
         BehaviourCheck::Collision,
     ];
 
@@ -46,6 +51,7 @@ impl BehaviourCheck {
             BehaviourCheck::ObservationDropout => "observation_dropout",
             BehaviourCheck::ControllerReaction => "controller_reaction",
             BehaviourCheck::RobotEnvelope => "robot_envelope",
+            BehaviourCheck::RobotMotion => "robot_motion",
             BehaviourCheck::Collision => "collision",
         }
     }
@@ -57,6 +63,7 @@ impl BehaviourCheck {
             BehaviourCheck::ObservationDropout => &OBSERVATION_DROPOUT,
             BehaviourCheck::ControllerReaction => &CONTROLLER_REACTION,
             BehaviourCheck::RobotEnvelope => &ROBOT_ENVELOPE,
+            BehaviourCheck::RobotMotion => &super::motion::ROBOT_MOTION,
             BehaviourCheck::Collision => &COLLISION,
         }
     }
@@ -100,7 +107,8 @@ const ROBOT_ENVELOPE: PremiseCheck = PremiseCheck {
     not_monitored: super::always_monitored,
 };
 
-/// `collision`: separation ≤ clearance while the robot moves (m).
+/// `collision`: separation ≤ clearance while the robot moves, at an instant or within the
+/// step before it (m).
 const COLLISION: PremiseCheck = PremiseCheck {
     unit: "m",
     relation: "<=",

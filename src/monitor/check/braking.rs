@@ -21,16 +21,18 @@ fn braking_not_monitored(carried: Carried) -> Option<&'static str> {
 
 impl Monitor {
     /// `braking_deceleration` over the step from the previous instant `r` to the sample's.
+    /// Whether it held (or was not due): `robot_motion` bounds the step by braking at b only
+    /// when it did.
     #[inline]
-    pub(in crate::monitor) fn check_braking(&mut self, r: &RobotAt, s: &Sample) {
+    pub(in crate::monitor) fn check_braking(&mut self, r: &RobotAt, s: &Sample) -> bool {
         if r.mode != Some(Mode::Brake) || r.v <= 0.0 {
-            return;
+            return true;
         }
         // A robot at rest at the next instant decelerated fast enough (it may have stopped
         // inside the step); one still moving must have slowed by at least b over the step.
         if s.robot_v <= 0.0 {
             self.count(Check::BrakingDeceleration);
-            return;
+            return true;
         }
         let step = s.t - r.t;
         let b = self.bounds.braking_deceleration;
@@ -44,6 +46,8 @@ impl Monitor {
                     .observed(decel)
                     .bound(b),
             );
+            return false;
         }
+        true
     }
 }

@@ -42,19 +42,19 @@ impl Monitor {
 
     /// `robot_envelope`: the robot's acceleration from the previous instant `r` is at most a,
     /// plus [`RELATIVE_TOLERANCE`] and the rounding of the speeds and times it is computed
-    /// from.
+    /// from. Whether it was (`robot_motion` bounds the step by a only when it was).
     #[inline(always)]
-    pub(in crate::monitor) fn check_acceleration(&mut self, r: &RobotAt, s: &Sample) {
+    pub(in crate::monitor) fn check_acceleration(&mut self, r: &RobotAt, s: &Sample) -> bool {
         let step = s.t - r.t;
         if step <= 0.0 {
-            return;
+            return true;
         }
         let a = self.rule.moving.a;
         self.count(Check::RobotEnvelope);
         // A robot that did not speed up is within any a ≥ 0 (the tolerance is not negative);
         // skipping the divisions changes no verdict.
         if s.robot_v - r.v <= 0.0 && a >= 0.0 {
-            return;
+            return true;
         }
         let acceleration = (s.robot_v - r.v) / step;
         let tolerance =
@@ -62,7 +62,9 @@ impl Monitor {
         if acceleration > a + tolerance {
             let v = Violation::at(Check::RobotEnvelope, s).detail(Detail::AboveAcceleration);
             self.raise(v.observed(acceleration).bound(a));
+            return false;
         }
+        true
     }
 
     /// The distance within which an observed gap is danger at robot speed `v`: min(ρ, d(v))

@@ -11,12 +11,13 @@
 //!
 //! The separation is the gap for an obstacle that was ahead when its lane became one the
 //! robot occupies (its first sample then), and minus the gap for one that was beside or
-//! behind (gap ≤ 0), as the semantics measures it.
+//! behind (gap ≤ 0), as the semantics measures it; `collision.rs` checks it, at the instant
+//! and over the step before it.
 
-use super::{Check, rounding};
+use super::Check;
 use crate::monitor::event::Violation;
 use crate::monitor::scene::CertifiedObstacle;
-use crate::monitor::{Lanes, Monitor, RELATIVE_TOLERANCE, Sample, Track};
+use crate::monitor::{Lanes, Monitor, Sample, Track};
 
 /// Where an obstacle is relative to the robot's lanes, as one sample shows it.
 #[derive(Clone, Copy, Debug)]
@@ -42,9 +43,7 @@ impl Monitor {
     ) -> LaneView {
         let gap = s.obstacle_x - s.robot_x;
         let ahead = track.ahead.unwrap_or(gap > 0.0);
-        if s.robot_v > 0.0 {
-            self.check_collision(s, if ahead { gap } else { -gap });
-        }
+        self.check_separation(s, track, ahead, self.bounds.obstacle_speed);
         LaneView {
             ahead: Some(ahead),
             lane: None,
@@ -88,30 +87,12 @@ impl Monitor {
         }
         let gap = s.obstacle_x - s.robot_x;
         let ahead = track.ahead.unwrap_or(gap > 0.0);
-        if s.robot_v > 0.0 {
-            self.check_collision(s, if ahead { gap } else { -gap });
-        }
+        let w = certified.map_or(self.bounds.obstacle_speed, |o| o.max_speed);
+        self.check_separation(s, track, ahead, w);
         LaneView {
             ahead: Some(ahead),
             lane,
             relevant,
-        }
-    }
-
-    /// `collision`: the robot moves at `separation` ≤ clearance, less the rounding error of
-    /// the gap and the observation noise σ_g (taken in the robot's favour: a collision is
-    /// reported only when every true gap the observation allows is one; so a full-precision
-    /// trace of a safe run, or one with noise within σ_g, raises nothing).
-    #[inline]
-    fn check_collision(&mut self, s: &Sample, separation: f64) {
-        let clearance = self.rule.clearance;
-        self.count_with_slack(Check::Collision, separation - clearance, s.t);
-        let slack = RELATIVE_TOLERANCE * clearance
-            + rounding(s.obstacle_x, s.robot_x)
-            + self.bounds.observation_noise;
-        if separation <= clearance - slack {
-            let v = Violation::at(Check::Collision, s);
-            self.raise(v.observed(separation).bound(clearance));
         }
     }
 }

@@ -12,6 +12,8 @@
 //!   certificate, `first_detection_gap`, `observation_noise`, and `static_obstacle`);
 //! - `timing.rs`: when the controller runs and what it sees (`control_period`, `latency`);
 //! - `braking.rs`: what the robot does (`braking_deceleration`);
+//! - `motion.rs`: whether the robot moved as its speeds say (`robot_motion`);
+//! - `collision.rs`: safety itself (`collision`), at an instant and within the step before;
 //! - `input.rs`: the fail-safe checks on the input and the instant a sample belongs to;
 //! - `scene.rs`: the checks a scene certificate adds ([`SceneCheck`]), evaluated in
 //!   `obstacle.rs` and `lanes.rs` (`obstacle_lane`, `collision`).
@@ -25,14 +27,17 @@ use crate::proof::premise::{Premise, PremiseKind};
 
 mod behaviour;
 mod braking;
+mod collision;
 mod controller;
 mod input;
 mod lanes;
+mod motion;
 mod obstacle;
 mod scene;
 mod timing;
 
 pub use behaviour::BehaviourCheck;
+pub(in crate::monitor) use motion::Motion;
 pub use scene::SceneCheck;
 
 /// Rounding error of one derived quantity, in units of its operands' magnitude.
@@ -132,6 +137,8 @@ impl Check {
     pub const ControllerReaction: Check = Check::Behaviour(BehaviourCheck::ControllerReaction);
     /// The robot's speed or acceleration beyond the certified v_max or a.
     pub const RobotEnvelope: Check = Check::Behaviour(BehaviourCheck::RobotEnvelope);
+    /// The robot's displacement is not one its speeds and mode allow.
+    pub const RobotMotion: Check = Check::Behaviour(BehaviourCheck::RobotMotion);
     /// The robot moved at a separation ≤ clearance from an obstacle of its lane.
     pub const Collision: Check = Check::Behaviour(BehaviourCheck::Collision);
 }
@@ -190,6 +197,7 @@ impl Check {
         Check::ObservationDropout,
         Check::ControllerReaction,
         Check::RobotEnvelope,
+        Check::RobotMotion,
         Check::Collision,
     ];
 
