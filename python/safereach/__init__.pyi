@@ -100,7 +100,7 @@ class RegionMap:
 def region(
     problem: Problem,
     ranges: dict[str, tuple[float, float]],
-    depth: int = 12,
+    depth: int = 14,
     min_width: float = 0.0,
 ) -> RegionMap: ...
 def certify(problem: Problem) -> Certificate: ...

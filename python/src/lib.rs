@@ -411,7 +411,7 @@ impl RegionMap {
 /// {"environment.obstacle_speed": (0.1, 0.3)}, or in a scene {"obstacle.0.max_speed":
 /// (0.1, 0.3)}): boxes that do not certify are split down to `depth`. The GIL is released.
 #[pyfunction]
-#[pyo3(signature = (problem, ranges, depth = 12, min_width = 0.0))]
+#[pyo3(signature = (problem, ranges, depth = 14, min_width = 0.0))]
 fn region(
     py: Python<'_>,
     problem: &Problem,

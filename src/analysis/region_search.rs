@@ -5,11 +5,14 @@
 //! halves first try the proofs their parent found for the same pieces; a proof that
 //! failed over the parent often holds over a half, with no solver call.
 //!
-//! **Refuted leaves**: a box that does not certify is analysed at its corners (neighbouring
-//! boxes share them, so each is analysed once) and, when no corner certifies, at its centre;
-//! a refuted centre (a colliding behaviour, replayed exactly) makes the box a refuted leaf
-//! naming that behaviour. The corners are a guard against a leaf straddling the boundary,
-//! not a claim: only the centre is checked.
+//! **Corners first**: every box is analysed at its corners (neighbouring boxes share them,
+//! so each is analysed once). A box is tried for a certificate only when every corner
+//! certifies, and analysed at its centre only when none does; a box the boundary crosses
+//! (corners on both sides) is split at once, carrying its parent's proofs down.
+//!
+//! **Refuted leaves**: a refuted centre (a colliding behaviour, replayed exactly) makes a
+//! box no corner of which certifies a refuted leaf naming that behaviour. The corners are a
+//! guard against a leaf straddling the boundary, not a claim: only the centre is checked.
 
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -37,15 +40,24 @@ pub struct RegionOptions {
     /// An axis narrower than this fraction of its whole range is not split again (0: no
     /// limit but the depth).
     pub min_width: f64,
-    /// Budget: the most boxes decided (each one certificate attempt, perhaps corner
-    /// analyses); boxes beyond it are left undecided, saying so.
+    /// Budget: the most boxes decided (each its corner analyses, then perhaps a certificate
+    /// attempt or a centre analysis); boxes beyond it are left undecided, saying so.
     pub max_boxes: u64,
 }
+
+/// The default depth: 14 cuts, 7 per axis of a plane. Boxes the boundary crosses stay
+/// undecided at any depth (their corners disagree), so the undecided share of a plane is
+/// about its boundary's length times a leaf's width: the seed plane W ∈ [0.1, 0.3] × ρ ∈
+/// [1.0, 1.6] keeps 3.25% undecided at 12 cuts and 1.65% at 14, and no placement of 12
+/// axis-parallel cuts goes below about 2.2% along its nearly straight boundary. Since boxes
+/// the boundary crosses are split without a certificate attempt or a centre analysis, the map
+/// at 14 solves about as many programs (1,853) as the map at 12 did before (1,682).
+pub const DEFAULT_DEPTH: u32 = 14;
 
 impl Default for RegionOptions {
     fn default() -> Self {
         RegionOptions {
-            depth: 12,
+            depth: DEFAULT_DEPTH,
             min_width: 0.0,
             max_boxes: Work::Boxes.default_limit(),
         }
@@ -197,6 +209,12 @@ fn map_subject<S: RegionSubject>(
 }
 
 /// Decides one box: certified, refuted, split, or (at the depth limit) undecided.
+///
+/// Its corners are analysed first (each once, shared with the neighbours): a box with a
+/// corner that does not certify cannot be certified as a whole, and one with a corner that
+/// does is never marked refuted, so a box with both — one the boundary crosses — is split
+/// without a certificate attempt or a centre analysis. Along the boundary that is most
+/// boxes, and what deeper maps spend their programs on.
 fn decide<S: RegionSubject>(
     subject: &S,
     whole: &ParamBox,
@@ -217,29 +235,37 @@ fn decide<S: RegionSubject>(
         reason,
     };
     let share = volume_fraction(whole, &task.b);
-    let not_certified = match subject.certify_box(&task.b, &task.hints, &mut solved) {
-        Ok(cert) => {
-            on_decided(share);
-            let mut l = leaf(LeafVerdict::Certified, None);
-            l.lower_bound = Some(f64_at_most(&cert.lower_bound));
-            l.proofs = cert.proofs;
-            return Decided::Leaf(l, solved);
-        }
-        Err(nc) => nc,
-    };
-    let refuted = no_corner_certified(subject, &task.b, corners, &mut solved)
-        .and_then(|()| subject.refute_centre(&task.b, &mut solved));
-    let note = match refuted {
-        Ok(r) => {
-            on_decided(share);
-            let mut l = leaf(LeafVerdict::Refuted, None);
-            match r {
-                LeafRefutation::Problem(r) => l.refutation = Some(r),
-                LeafRefutation::Scene(r) => l.scene_refutation = Some(r),
+    let sides = corner_sides(subject, &task.b, corners, &mut solved);
+    let (hints, reason) = match (&sides.certified, &sides.not_certified) {
+        (Some(yes), Some(no)) => (
+            task.hints.clone(),
+            format!("the boundary crosses it: its corner {yes}, its corner {no}"),
+        ),
+        (_, None) => match subject.certify_box(&task.b, &task.hints, &mut solved) {
+            Ok(cert) => {
+                on_decided(share);
+                let mut l = leaf(LeafVerdict::Certified, None);
+                l.lower_bound = Some(f64_at_most(&cert.lower_bound));
+                l.proofs = cert.proofs;
+                return Decided::Leaf(l, solved);
             }
-            return Decided::Leaf(l, solved);
-        }
-        Err(note) => note,
+            Err(nc) => (
+                nc.hints,
+                format!("{}; every corner is certified", nc.reason),
+            ),
+        },
+        (None, Some(no)) => match subject.refute_centre(&task.b, &mut solved) {
+            Ok(r) => {
+                on_decided(share);
+                let mut l = leaf(LeafVerdict::Refuted, None);
+                match r {
+                    LeafRefutation::Problem(r) => l.refutation = Some(r),
+                    LeafRefutation::Scene(r) => l.scene_refutation = Some(r),
+                }
+                return Decided::Leaf(l, solved);
+            }
+            Err(note) => (task.hints.clone(), format!("its corner {no}; {note}")),
+        },
     };
     if let Some(axis) = split_axis(whole, &task, options)
         && let Some((low, high)) = task.b.split(axis)
@@ -247,12 +273,11 @@ fn decide<S: RegionSubject>(
         let half = |b, upper| Task {
             b,
             path: format!("{}{}", task.path, path_letter(axis, upper)),
-            hints: not_certified.hints.clone(),
+            hints: hints.clone(),
         };
         return Decided::Split(half(low, false), half(high, true), solved);
     }
     on_decided(share);
-    let reason = format!("{}; {note}", not_certified.reason);
     Decided::Leaf(leaf(LeafVerdict::Undecided, Some(reason)), solved)
 }
 
@@ -275,15 +300,25 @@ fn split_axis(whole: &ParamBox, task: &Task, options: &RegionOptions) -> Option<
         .max_by(|&i, &j| relative(i).total_cmp(&relative(j)).then(j.cmp(&i)))
 }
 
-/// Whether no corner of `b` certifies (a box that straddles the boundary has one that
-/// does), or a note naming one that does. (Only the verdict is needed: no witness is
-/// replayed at corners.)
-fn no_corner_certified<S: RegionSubject>(
+/// A box's corners by verdict: one that certifies and one that does not (each in words,
+/// with its verdict), when there are.
+struct CornerSides {
+    certified: Option<String>,
+    not_certified: Option<String>,
+}
+
+/// Analyses the corners of `b` (each point once over the whole search), stopping once both
+/// sides are seen. (Only the verdict is needed: no witness is replayed at corners.)
+fn corner_sides<S: RegionSubject>(
     subject: &S,
     b: &ParamBox,
     corners: &Corners,
     solved: &mut usize,
-) -> Result<(), String> {
+) -> CornerSides {
+    let mut sides = CornerSides {
+        certified: None,
+        not_certified: None,
+    };
     for mask in 0..(1u32 << b.axes.len()) {
         let values: Vec<f64> = b
             .axes
@@ -305,19 +340,23 @@ fn no_corner_certified<S: RegionSubject>(
             *solved += n;
             verdict
         });
-        if verdict == Verdict::Certified {
+        let side = if verdict == Verdict::Certified {
+            &mut sides.certified
+        } else {
+            &mut sides.not_certified
+        };
+        if side.is_none() {
             let at: Vec<String> = b
                 .axes
                 .iter()
                 .zip(&values)
                 .map(|(a, v)| format!("{} = {v}", a.key()))
                 .collect();
-            return Err(format!(
-                "its corner {} is {}",
-                at.join(", "),
-                verdict.as_str()
-            ));
+            *side = Some(format!("{} is {}", at.join(", "), verdict.as_str()));
+        }
+        if sides.certified.is_some() && sides.not_certified.is_some() {
+            break;
         }
     }
-    Ok(())
+    sides
 }

@@ -49,11 +49,11 @@ pub struct ExploreArgs {
     speeds: Option<String>,
     /// Stop with `inconclusive` after this many distinct states (bounds memory; default
     /// 2000000 for a problem, 600000 for a scene: under 1 GB at small latencies; --max-memory
-    /// lowers it for large states).
+    /// lowers it for a scene's large states).
     #[arg(long, value_name = "N")]
     max_states: Option<usize>,
-    /// Memory budget for the stored states, in MiB (default 2048): with a long latency every
-    /// state is large, and the state limit is lowered to what fits.
+    /// Memory budget for the stored states, in MiB (default 2048): the state limit is lowered
+    /// to what fits (1 KiB a problem's state; a scene's grows with the latency).
     #[arg(long, value_name = "MIB")]
     max_memory: Option<u64>,
     /// Initial gaps explored in a range `environment.initial_gap = [min, max]`: N evenly

@@ -9,7 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use safereach::core::budget::Work;
 
 use safereach::analysis::Verdict;
-use safereach::analysis::region_search::{RegionOptions, map_region, map_scene_region};
+use safereach::analysis::region_search::{
+    DEFAULT_DEPTH, RegionOptions, map_region, map_scene_region,
+};
 use safereach::analysis::report::region_plot;
 use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::scene::Scene;
@@ -37,7 +39,7 @@ pub struct RegionArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
     /// Most halvings on the way from the whole box to a leaf.
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = DEFAULT_DEPTH)]
     depth: u32,
     /// Budget: the most boxes decided (default 1,000,000); boxes past it are left undecided.
     #[arg(long, value_name = "N")]

@@ -330,6 +330,23 @@ impl<N: Scalar> World<N> {
         self.robot.mode == Mode::Stop
     }
 
+    /// Takes out the history the observations are read from — the gaps at the starts of
+    /// the last L+1 periods and the obstacle's speeds over them, oldest first — leaving the
+    /// world without it until [`World::restore_history`]. (The explorer keeps it shared
+    /// between states rather than copied into each.)
+    pub fn take_history(&mut self) -> (VecDeque<N>, VecDeque<N>) {
+        (
+            std::mem::take(&mut self.gaps),
+            std::mem::take(&mut self.speeds),
+        )
+    }
+
+    /// Puts back a history taken by [`World::take_history`].
+    pub fn restore_history(&mut self, gaps: VecDeque<N>, speeds: VecDeque<N>) {
+        self.gaps = gaps;
+        self.speeds = speeds;
+    }
+
     /// Occlusion (DESIGN.md §1.2): the robot sees nothing at the starts of steps before
     /// `k` (the environment keeps the obstacle hidden; the caller keeps the first sighting
     /// at a true gap ≥ d_det).

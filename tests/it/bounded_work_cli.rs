@@ -176,7 +176,7 @@ fn work_past_a_budget_is_refused_or_inconclusive_naming_the_flag() {
                 &["4,294,967,296 cells", "--max-cells"],
             ),
             row(
-                "an exploration whose states are large",
+                "an exploration over its memory budget",
                 &[
                     "explore",
                     "seed.toml",
@@ -187,7 +187,7 @@ fn work_past_a_budget_is_refused_or_inconclusive_naming_the_flag() {
                     "--max-states",
                     "100000",
                     "--max-memory",
-                    "64",
+                    "1",
                 ],
                 3,
                 &["memory budget reached", "raise --max-memory"],

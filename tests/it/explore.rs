@@ -715,6 +715,30 @@ fn the_state_budget_ends_inconclusive() {
 }
 
 #[test]
+fn a_long_latency_does_not_shrink_the_state_limit() {
+    // Latency 999: each state used to copy its 999 pending observations into itself and its
+    // key (60 KB a state, 1.9 GB at 29,644 states), and the memory budget cut the search to
+    // what fitted. States now share their histories, so 64 MiB holds 20,000 of them.
+    let p = Problem::from_toml_str_with_overrides(
+        &std::fs::read_to_string(seed_file()).unwrap(),
+        "seed.toml",
+        &["robot.latency=999".to_string()],
+    )
+    .unwrap();
+    let options = Options {
+        max_states: 20_000,
+        max_memory: 64 << 20,
+    };
+    let e = explore::explore(&p, speeds(&p, 5), &options).expect("explores");
+    assert_eq!(e.state_limit, 20_000);
+    assert_eq!(e.states, 20_000);
+    // The robot sees nothing for 99.9 s: the shortest collision, replayed, collides.
+    assert_eq!(e.verdict, ExploreVerdict::Collision);
+    let c = e.counterexample.expect("a counterexample");
+    assert!(c.run.records.last().is_some_and(|r| r.collision));
+}
+
+#[test]
 fn terminal_states_have_no_actions() {
     let p = Spec::small().problem();
     let model = FiniteModel::new(&p, speeds(&p, 3));

@@ -108,6 +108,73 @@ fn the_seed_plane_agrees_with_certify_at_random_points() {
     );
 }
 
+/// The seed problem at `w` (obstacle speed) and `rho` (reaction radius).
+fn seed_at(seed: &Problem, w: f64, rho: f64) -> Problem {
+    let mut p = seed.clone();
+    Parameter::ObstacleSpeed.set_in(&mut p, w);
+    Parameter::ReactionRadius.set_in(&mut p, rho);
+    p
+}
+
+#[test]
+fn the_seed_plane_at_the_default_budget_leaves_at_most_two_percent_undecided() {
+    let seed = load_problem("seed.toml", &[]);
+    let whole = ParamBox::new(vec![
+        axis("environment.obstacle_speed", 0.10, 0.30),
+        axis("controller.reaction_radius", 1.0, 1.6),
+    ])
+    .expect("a valid box");
+    let m = map_region(&seed, &whole, &RegionOptions::default(), &|_| {}).expect("mappable");
+    // Every certified leaf's proofs and every refuted leaf's behaviour, exactly, no solver.
+    let report = check_map(&m).expect("the map checks");
+    assert!(
+        report.coverage.undecided <= 0.02,
+        "undecided {:.2}% at the default budget",
+        100.0 * report.coverage.undecided
+    );
+    let (w_key, rho_key) = ("environment.obstacle_speed", "controller.reaction_radius");
+    // The safe radius at a speed, by the point search (an oracle independent of the map).
+    let mut radii = std::collections::BTreeMap::new();
+    let mut star = |w: f64| -> f64 {
+        *radii.entry(w.to_bits()).or_insert_with(|| {
+            let p = load_problem("seed.toml", &[&format!("{w_key}={w}")]);
+            let b = radius::safe_radius(&p).expect("search");
+            b.value.unwrap_or(f64::INFINITY)
+        })
+    };
+    for leaf in &m.leaves {
+        let ([w0, w1], [r0, r1]) = (leaf.bounds[w_key], leaf.bounds[rho_key]);
+        match leaf.verdict {
+            LeafVerdict::Certified => {
+                let centre = seed_at(&seed, (w0 + w1) / 2.0, (r0 + r1) / 2.0);
+                assert_eq!(
+                    analyse(&centre).expect("analysable").verdict,
+                    Verdict::Certified
+                );
+            }
+            LeafVerdict::Refuted => {
+                let r = leaf
+                    .refutation
+                    .as_ref()
+                    .expect("a refuted leaf names its point");
+                let at = seed_at(&seed, r.point[w_key], r.point[rho_key]);
+                assert_eq!(
+                    analyse(&at).expect("analysable").verdict,
+                    Verdict::Refuted,
+                    "leaf {}",
+                    leaf.path
+                );
+            }
+            // Undecided only where the boundary ρ*(W), increasing in W, crosses the leaf.
+            LeafVerdict::Undecided => assert!(
+                star(w0) <= r1 && r0 <= star(w1),
+                "leaf {} ({w0}..{w1} x {r0}..{r1}) is off the boundary",
+                leaf.path
+            ),
+        }
+    }
+}
+
 #[test]
 fn other_rules_planes_and_noise_agree_with_certify() {
     // V_a = 0.17 is no cut point, so leaves straddle W = V_a (the wrong-assumption guard

@@ -153,6 +153,7 @@ pub mod scene;
 mod search;
 mod speeds;
 mod starts;
+mod window;
 
 pub use model::{Choice, FiniteModel, State, StateKey, Status, Transition};
 pub use search::{Exploration, Path, explore, explore_model};
@@ -195,7 +196,8 @@ pub struct Options {
     /// Stop with `inconclusive` once this many distinct states are stored.
     pub max_states: usize,
     /// Memory budget of the stored states (bytes): the state limit is lowered to what fits
-    /// at [`bytes_per_state`] each (a long latency makes every state large).
+    /// at [`PROBLEM_STATE_BYTES`] or, for a scene, [`bytes_per_state`] each (a long latency
+    /// makes every scene state large).
     pub max_memory: u64,
 }
 
@@ -233,7 +235,13 @@ pub fn budget_reached(states: usize, state_limit: usize, options: &Options) -> S
     }
 }
 
-/// Bytes a stored state takes, over-estimated: ~450 measured for the seed's small
+/// Bytes a stored state of a problem's model takes, over-estimated, whatever the latency:
+/// its pending observations and the world's history are shared with the states along its
+/// path, so each state adds one node of each (~600 bytes a state measured, peak RSS over
+/// states, at latency 1 and at latency 999 alike).
+pub const PROBLEM_STATE_BYTES: u64 = 1024;
+
+/// Bytes a stored scene state takes, over-estimated: ~450 measured for the seed's small
 /// latencies, plus ~57 per pending observation (latency 999 measured 57 KB per state; 72
 /// counted, for the search's own overhead), each kept in the state and in its key, per
 /// moving obstacle.

@@ -5,10 +5,11 @@
 //! transitions through the step function, checked against the key's prediction at every
 //! step.
 
-use std::collections::VecDeque;
+use std::hash::{Hash, Hasher};
 
 use super::observe::{Pending, Seen, Sight, SpeedSeen, classify, may_be_in_area, resolve};
 use super::starts::{DEFAULT_STARTS, starts};
+use super::window::Window;
 use super::{ExploreError, SpeedSet};
 use crate::core::model::{Params, Problem};
 use crate::core::num::Exact;
@@ -16,12 +17,19 @@ use crate::core::semantics::{Mode, StepRecord, World, danger_distance};
 
 /// A state of the finite model: the world as [`World::step`] runs it, plus the explorer's
 /// own account of the observations still to come (kept in step with the world's history
-/// from the step records, and checked against the world's guard at every step).
+/// from the step records, and checked against the world's guard at every step). Both
+/// histories — the world's and the pending observations — are shared with the states along
+/// its path, so a state's size does not grow with the latency.
 #[derive(Clone, Debug)]
 pub struct State {
+    /// The world, its history taken out into `history`.
     world: World<Exact>,
-    /// The observations at steps k, k+1, …, k+L−1 (while accelerating or driving).
-    pending: VecDeque<Pending>,
+    /// The world's history: the gap at each of the last L+1 periods' starts and the
+    /// obstacle's speed over it.
+    history: Window<(Exact, Exact)>,
+    /// The observations at steps k+L−1, …, k+1, k, newest first (while accelerating or
+    /// driving).
+    pending: Window<Pending>,
     /// What the last period's speed can be made to look like (the speed observed together
     /// with the current gap).
     last: SpeedSeen,
@@ -30,7 +38,8 @@ pub struct State {
 }
 
 impl State {
-    /// The world in this state.
+    /// The world in this state, without the history its observations are read from
+    /// (shared between states; [`FiniteModel::next_state`] restores it to step).
     pub fn world(&self) -> &World<Exact> {
         &self.world
     }
@@ -54,14 +63,46 @@ enum KeyRepr {
         speed: Exact,
         gap: Exact,
         last: SpeedSeen,
-        pending: Box<[Seen]>,
-        /// While the obstacle is hidden: which pending observations may first show it.
-        hidden: Option<Box<[Sight]>>,
+        /// The pending observations' verdicts and, while the obstacle is hidden, which
+        /// of them may first show it.
+        pending: PendingKey,
     },
     /// Braking: only gap and speed matter.
     Braking { speed: Exact, gap: Exact },
     /// At rest for good.
     Stopped,
+}
+
+/// The pending observations as a key sees them: each one's verdict and, while the obstacle
+/// is hidden (`hidden`), whether it may first show it. Shares the state's nodes.
+#[derive(Clone, Debug)]
+struct PendingKey {
+    pending: Window<Pending>,
+    hidden: bool,
+}
+
+impl PartialEq for PendingKey {
+    fn eq(&self, other: &Self) -> bool {
+        self.hidden == other.hidden
+            && self.pending.same_by(&other.pending, |a, b| {
+                a.seen == b.seen && (!self.hidden || a.sight == b.sight)
+            })
+    }
+}
+
+impl Eq for PendingKey {}
+
+impl Hash for PendingKey {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.hidden.hash(state);
+        let hidden = self.hidden;
+        self.pending.hash_by(state, |p, h| {
+            p.seen.hash(h);
+            if hidden {
+                p.sight.hash(h);
+            }
+        });
+    }
 }
 
 /// Whether a state has successors.
@@ -160,14 +201,14 @@ impl FiniteModel {
             .iter()
             .map(|g| State {
                 world: World::with_gap(self.params.clone(), g.clone()),
-                pending: std::iter::repeat_n(
-                    Pending {
+                history: Window::empty(),
+                pending: (0..self.params.L).fold(Window::empty(), |w, _| {
+                    let quiet = Pending {
                         seen: Seen::Quiet,
                         sight: Sight::Nothing,
-                    },
-                    self.params.L,
-                )
-                .collect(),
+                    };
+                    w.pushed(quiet, self.params.L)
+                }),
                 last: SpeedSeen::NONE_YET,
                 hidden: self.params.d_det.is_some(),
             })
@@ -189,7 +230,7 @@ impl FiniteModel {
             }
             Mode::Accelerate | Mode::Drive
                 if *w.gap() <= -self.params.sigma_g.clone()
-                    && state.pending.iter().all(|s| s.seen == Seen::Quiet) =>
+                    && state.pending.newest_first().all(|s| s.seen == Seen::Quiet) =>
             {
                 Status::NeverBrakes
             }
@@ -200,7 +241,11 @@ impl FiniteModel {
     /// Whether some observation to come may be a hidden obstacle's first sighting: the
     /// first one that exists (pending, or else the current gap) shows a true gap ≥ d_det.
     fn sighting_left(&self, state: &State) -> bool {
-        match state.pending.iter().find(|s| s.sight != Sight::Nothing) {
+        match state
+            .pending
+            .oldest_first()
+            .find(|s| s.sight != Sight::Nothing)
+        {
             Some(s) => s.sight == Sight::Far,
             None => Sight::of(&self.params, state.world.gap()) == Sight::Far,
         }
@@ -213,7 +258,7 @@ impl FiniteModel {
             return (false, true);
         }
         let v = &state.world.robot().speed;
-        match state.pending.front() {
+        match state.pending.oldest() {
             Some(s) => resolve(&self.params, &s.seen, v),
             // L = 0: the robot sees the current gap with the last period's speed.
             None => {
@@ -233,7 +278,7 @@ impl FiniteModel {
     /// and shows a true gap ≥ d_det.
     fn may_show(&self, state: &State) -> bool {
         state.hidden
-            && match state.pending.front() {
+            && match state.pending.oldest() {
                 Some(s) => s.sight == Sight::Far,
                 None => Sight::of(&self.params, state.world.gap()) == Sight::Far,
             }
@@ -297,6 +342,12 @@ impl FiniteModel {
             if choice.react { fire } else { !quiet }
         });
         let mut world = state.world.clone();
+        let (gaps, speeds) = state
+            .history
+            .oldest_first()
+            .map(|(g, w)| (g.clone(), w.clone()))
+            .unzip();
+        world.restore_history(gaps, speeds);
         if state.hidden {
             world.hide_until(if choice.show { world.k() } else { usize::MAX });
         }
@@ -311,25 +362,30 @@ impl FiniteModel {
                 if fires { "did not brake" } else { "braked" },
             )));
         }
+        let history = self.shared_history(state, &mut world)?;
         let next = match world.robot().mode {
             Mode::Accelerate | Mode::Drive => {
                 let mut pending = state.pending.clone();
-                if pending.pop_front().is_some() {
+                if pending.len() > 0 {
                     // The gap at this step's start, with the previous period's speed, is
                     // what the robot sees L periods from now.
-                    pending.push_back(Pending {
-                        seen: classify(
-                            p,
-                            &record.gap,
-                            state.last,
-                            &world.robot().speed,
-                            self.top_danger.as_ref(),
-                        ),
-                        sight: Sight::of(p, &record.gap),
-                    });
+                    pending = pending.pushed(
+                        Pending {
+                            seen: classify(
+                                p,
+                                &record.gap,
+                                state.last,
+                                &world.robot().speed,
+                                self.top_danger.as_ref(),
+                            ),
+                            sight: Sight::of(p, &record.gap),
+                        },
+                        p.L,
+                    );
                 }
                 State {
                     world,
+                    history,
                     pending,
                     last: SpeedSeen::of(p, &w),
                     hidden: state.hidden && !choice.show,
@@ -337,12 +393,42 @@ impl FiniteModel {
             }
             Mode::Brake | Mode::Stop | Mode::Idle => State {
                 world,
-                pending: VecDeque::new(),
+                history,
+                pending: Window::empty(),
                 last: SpeedSeen::NONE_YET,
                 hidden: false,
             },
         };
         Ok(Transition { record, next })
+    }
+
+    /// The history `world` holds after a step from `state`, taken out of it: the state's
+    /// shared history with the one entry the step added (checked against the world's).
+    fn shared_history(
+        &self,
+        state: &State,
+        world: &mut World<Exact>,
+    ) -> Result<Window<(Exact, Exact)>, ExploreError> {
+        let (gaps, speeds) = world.take_history();
+        let (Some(gap), Some(speed)) = (gaps.back(), speeds.back()) else {
+            return Err(ExploreError::Inconsistent("a step left no history".into()));
+        };
+        let history = state
+            .history
+            .pushed((gap.clone(), speed.clone()), self.params.L + 1);
+        let same = history.len() == gaps.len()
+            && history.len() == speeds.len()
+            && history
+                .oldest_first()
+                .zip(gaps.iter().zip(&speeds))
+                .all(|((g, w), (g2, w2))| g == g2 && w == w2);
+        if !same {
+            return Err(ExploreError::Inconsistent(format!(
+                "at step {} the shared history is not the world's",
+                world.k()
+            )));
+        }
+        Ok(history)
     }
 
     /// The key of `state` (see the module docs for why it is exact).
@@ -368,12 +454,48 @@ impl FiniteModel {
                     speed: robot.speed.clone(),
                     last,
                     gap,
-                    pending: state.pending.iter().map(|s| s.seen.clone()).collect(),
-                    hidden: state
-                        .hidden
-                        .then(|| state.pending.iter().map(|s| s.sight).collect()),
+                    pending: PendingKey {
+                        pending: state.pending.clone(),
+                        hidden: state.hidden,
+                    },
                 }
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::crosscheck::explore::SpeedSet;
+
+    /// The seed problem's model at latency `l`, its speeds {0, W}.
+    fn seed_model(l: usize) -> FiniteModel {
+        let text = include_str!("../../../problems/seed.toml");
+        let set = format!("robot.latency={l}");
+        let problem = Problem::from_toml_str_with_overrides(text, "seed.toml", &[set])
+            .expect("a valid problem");
+        let speeds = SpeedSet::evenly_spaced(&problem.params::<Exact>().W, 2).expect("two speeds");
+        FiniteModel::new(&problem, speeds)
+    }
+
+    #[test]
+    fn a_step_adds_one_node_of_history_whatever_the_latency() {
+        for l in [1, 20, 999] {
+            let model = seed_model(l);
+            let mut state = model.init_states().remove(0);
+            for step in 0..40 {
+                let choice = model.actions(&state)[usize::from(step % 3 == 0)];
+                let next = model.next_state(&state, choice).expect("a step").next;
+                assert_eq!(next.pending.len(), l, "latency {l}, step {step}");
+                assert_eq!(next.history.len(), (step + 1).min(l + 1));
+                // What storing the successor costs beyond its parent: one node each.
+                assert_eq!(next.pending.nodes_not_in(&state.pending), 1);
+                assert_eq!(next.history.nodes_not_in(&state.history), 1);
+                let (gaps, _) = next.world.clone().take_history();
+                assert!(gaps.is_empty(), "the world keeps no copy of the history");
+                state = next;
+            }
+        }
     }
 }

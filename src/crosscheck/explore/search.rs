@@ -153,7 +153,7 @@ pub fn explore_model(model: &FiniteModel, options: &Options) -> Result<Explorati
         .map(|s| s.world().gap().clone())
         .collect();
     let init = init_states.into_iter().map(|s| (model.key(&s), s));
-    let state_limit = options.state_limit(super::bytes_per_state(model.params().L, 1));
+    let state_limit = options.state_limit(super::PROBLEM_STATE_BYTES);
     let reached = bfs::search(init, state_limit, |id, state, next| {
         expand(model, &mut watch, id, state, next)
     })?;
