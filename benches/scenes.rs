@@ -4,9 +4,14 @@
 //! Run with `cargo bench --bench scenes`. No timing assertions anywhere: speed is measured
 //! here, never in tests.
 
+#[path = "support/median.rs"]
+mod support_median;
+
 use std::hint::black_box;
 use std::path::Path;
 use std::time::{Duration, Instant};
+
+use support_median::median;
 
 use safereach::analysis::scene::analyse_scene;
 use safereach::core::scene::{Obstacle, Position, Scene};
@@ -14,19 +19,6 @@ use safereach::proof::scene_certificate::SceneCertificate;
 use safereach::proof::scene_check::check_scene;
 use safereach::proof::search_certificate::certify_by_search;
 use safereach::proof::search_check::check_search;
-
-/// Median time per call of `f` over `rounds` calls.
-fn median(rounds: usize, mut f: impl FnMut()) -> Duration {
-    let mut times: Vec<Duration> = (0..rounds)
-        .map(|_| {
-            let start = Instant::now();
-            f();
-            start.elapsed()
-        })
-        .collect();
-    times.sort();
-    times[rounds / 2]
-}
 
 /// Median time per call of `f`, over as many calls (3 to 101) as fit in about half a
 /// second: a few-millisecond case needs many to see past a loaded machine's noise.

@@ -1228,6 +1228,42 @@ fn random_problems_agree_with_brute_force() {
     report("random", &cases, &tally);
 }
 
+/// V_a = 0 with the wrong-assumption guard on, at latencies 0 to 8: every in-area step's
+/// speed must be 0, so an early piece's lowest anchor gap is the fastest approach's landing
+/// on the area's edge, then the robot's motion alone (the closed form of
+/// `safereach::proof::approach_closed_form`). The random sample never draws V_a = 0, and
+/// latency stretches the approach over more steps before the anchor.
+#[test]
+fn assumed_speed_zero_with_the_guard_agrees_with_brute_force_at_several_latencies() {
+    let mut cases = Vec::new();
+    for latency in [0, 1, 3, 5, 8] {
+        // Accelerating throughout, cruising early, and an area wider than the start.
+        cases.push(Case(
+            8, 4, 5, 10, latency, 0, 0, 2000, Paper, 0, true, 15, 300,
+        ));
+        cases.push(Case(
+            5, 10, 7, 10, latency, 0, 0, 900, Kinematic, 0, true, 30, 200,
+        ));
+        cases.push(Case(
+            6, 4, 6, 20, latency, 5, 0, 2600, Paper, 5, true, 20, 180,
+        ));
+    }
+    let early = cases
+        .iter()
+        .filter(|c| {
+            let a = analyse(&c.problem()).expect("analyses");
+            a.outcomes.iter().any(|o| o.piece.early)
+        })
+        .count();
+    assert!(
+        early == cases.len(),
+        "only {early} of {} cases have early pieces",
+        cases.len()
+    );
+    let tally = run_cases(&cases);
+    report("V_a = 0", &cases, &tally);
+}
+
 /// Problems in [`ten_thousand_problems_agree_with_brute_force`] besides the former long
 /// hunt's; `BRUTE_FORCE_WIDE=<n>` for another count (its coverage thresholds assume the
 /// default 10,000).

@@ -4,6 +4,7 @@
 //! This layer compiles without Clarabel: a certificate is checked by rebuilding every piece
 //! from the problem alone and recomputing every bound in exact rationals.
 
+pub mod approach_closed_form;
 pub mod certificate;
 pub mod certificate_file;
 pub mod check;

@@ -119,7 +119,7 @@ impl Decomposition {
     /// a point; over a box the least over it, at the corner that speeds the approach most.
     pub(crate) fn early_lowest_gap(&self, s: &Params<ParamAffine>, m: usize) -> ParamAffine {
         if self.region.is_none() {
-            return self.fastest_approach_affine(s, m).1;
+            return self.fastest_gap(s, m);
         }
         let fastest = self.corner(|p| match p {
             Parameter::ObstacleSpeed
@@ -128,7 +128,7 @@ impl Decomposition {
             | Parameter::GapNoise => End::High,
             _ => End::Low,
         });
-        let gap = self.fastest_approach_affine(&symbolic(&fastest), m).1;
+        let gap = self.fastest_gap(&symbolic(&fastest), m);
         ParamAffine::constant(gap.value)
     }
 

@@ -36,8 +36,9 @@
 //! constrain speeds that enter the gap at T−2 through their sum. One *early* piece per T
 //! (o_{T−2} ≤ ρ, anchored at T−2) stands for all of them. The lowest gap its prefix can
 //! reach is that of the fastest approach that respects the area — W while outside, at most
-//! V_a once inside ([`Decomposition::fastest_approach`]) — and every gap above it is reached
-//! by scaling those speeds down (docs/reductions.md, Lemma 8). So each brake step has at most three entries: T, T−1,
+//! V_a once inside ([`Decomposition::fastest_approach`], in closed form:
+//! [`crate::proof::approach_closed_form`]) — and every gap above it is reached
+//! by scaling those speeds down (docs/reductions.md, Lemmas 8 and 8a). So each brake step has at most three entries: T, T−1,
 //! and "T−2 or earlier".
 //!
 //! Each piece's rows are necessary and sufficient for its schedule (the converse direction
@@ -196,9 +197,7 @@ pub struct Decomposition {
     pub params: Params<Exact>,
     /// Robot state at each step's start along the drive profile, up to the cruise onset;
     /// later states follow from it (see [`Decomposition::drive`]).
-    profile: Arc<Vec<RobotState<Exact>>>,
-    /// The profile's positions as small rationals (for loops that step through it).
-    fast_positions: Arc<Vec<Rational>>,
+    profile: Profile,
     /// v_max·dt: how far each cruising step goes.
     cruise_step: Exact,
     /// First step at whose start the robot cruises at v_max.
@@ -246,8 +245,8 @@ fn stopping(p: &Params<Exact>, v: Exact) -> (Exact, Exact) {
     (time, distance)
 }
 
-/// A drive profile: its states and their positions as small rationals.
-type Profile = (Arc<Vec<RobotState<Exact>>>, Arc<Vec<Rational>>);
+/// A drive profile: its states up to the cruise onset.
+type Profile = Arc<Vec<RobotState<Exact>>>;
 
 /// Profiles already stepped, by the numbers the drive depends on (v_max, a, dt, v0): a sweep
 /// or a region map asks for one robot's profile thousands of times (2,000 exact steps at
@@ -273,10 +272,9 @@ fn shared_drive_profile(params: &Params<Exact>) -> Profile {
     if let Some(profile) = known {
         return profile;
     }
-    let (states, positions) = drive_profile(params);
-    let profile = (Arc::new(states), Arc::new(positions));
+    let profile = Arc::new(drive_profile(params));
     // (A long profile is not kept past its use: its memory would outlive the analysis.)
-    if profile.0.len() <= MAX_SHARED_STEPS
+    if profile.len() <= MAX_SHARED_STEPS
         && let Ok(mut list) = PROFILES.lock()
     {
         if list.len() >= 8 {
@@ -288,20 +286,18 @@ fn shared_drive_profile(params: &Params<Exact>) -> Profile {
 }
 
 /// The drive profile up to the cruise onset, through the step function (in [`Rational`]).
-fn drive_profile(params: &Params<Exact>) -> (Vec<RobotState<Exact>>, Vec<Rational>) {
+fn drive_profile(params: &Params<Exact>) -> Vec<RobotState<Exact>> {
     let p: Params<Rational> = params.map(Rational::from_exact);
     let mut state = RobotState::initial(&p);
     let mut profile = Vec::new();
-    let mut positions = Vec::new();
     loop {
-        positions.push(state.position.clone());
         profile.push(RobotState {
             position: state.position.to_exact(),
             speed: state.speed.to_exact(),
             mode: state.mode,
         });
         if state.speed >= p.v_max {
-            return (profile, positions);
+            return profile;
         }
         state = robot_motion(&p, &state).end;
     }
@@ -334,9 +330,8 @@ impl Decomposition {
         merge: bool,
         region: Option<ParamBox>,
     ) -> Self {
-        let (profile, fast_positions) = shared_drive_profile(&params);
+        let profile = shared_drive_profile(&params);
         let mut d = Decomposition {
-            fast_positions,
             cruise_step: params.v_max.clone() * params.dt.clone(),
             cruise_stop: stopping(&params, params.v_max.clone()),
             cruise_from: profile.len() - 1,
@@ -944,100 +939,6 @@ impl Decomposition {
         danger_distance(s, &ParamAffine::constant(self.speed(k).clone()))
     }
 
-    /// The obstacle's fastest approach over steps 0..m for an early piece: speed W while
-    /// that keeps it outside the reaction area, then at most V_a, because every speed whose
-    /// step ends inside the area is observed before the brake step and must not exceed V_a.
-    /// Returns the speeds and the gap at step m, the lowest reachable (as a closure: a step
-    /// may end exactly on ρ). Any gap between it and g0 − P_m is reached by scaling these
-    /// speeds down by a factor λ ≤ 1: the scaled path is farther out at every step, so it is
-    /// inside the area at fewer steps, and there its speed is a fraction of one ≤ V_a.
-    pub fn fastest_approach(&self, m: usize) -> (Vec<Exact>, Exact) {
-        // In values only (a witness's speeds need no slopes): small rationals, one
-        // subtraction per step ([`FastApproach`]).
-        let mut run = FastApproach::new(self, &self.params);
-        let dt = Rational::from_exact(&self.params.dt);
-        let speeds = (0..m)
-            .map(|_| (run.step() / dt.clone()).to_exact())
-            .collect();
-        (speeds, (run.x - run.next).to_exact())
-    }
-
-    /// [`Decomposition::fastest_approach`] with its numbers affine in the parameters (each
-    /// step's branch is the one taken at the problem's values).
-    pub(crate) fn fastest_approach_affine(
-        &self,
-        s: &Params<ParamAffine>,
-        m: usize,
-    ) -> (Vec<ParamAffine>, ParamAffine) {
-        let dt = &self.params.dt;
-        let mut gap = s.g0.clone();
-        let mut speeds = Vec::with_capacity(m);
-        for j in 0..m {
-            let next = self.fastest_step(s, j, gap.clone());
-            let closing = ParamAffine::constant(self.position(j + 1) - self.position(j));
-            speeds.push((gap - closing - next.clone()).scaled(&(Exact::ONE / dt)));
-            gap = next;
-        }
-        (speeds, gap)
-    }
-
-    /// The first anchor m ≥ `from` at which the fastest approach (see
-    /// [`Decomposition::fastest_approach`]) at the point `p` has covered at least `need`, if
-    /// any before the robot alone reaches the obstacle's start.
-    fn first_fast_cover(&self, p: &Params<Exact>, from: usize, need: &Exact) -> Option<usize> {
-        // In exact values: only where it covers enough matters here, not its slopes.
-        let mut run = FastApproach::new(self, p);
-        let covered = Rational::from_exact(&p.g0) - Rational::from_exact(need);
-        while run.j < self.last_brake {
-            let j = run.j;
-            if j >= from && run.x <= covered {
-                return Some(j);
-            }
-            // Cruising, the approach moves by the same amount for a whole stretch: leap over
-            // the steps that cannot be the answer (before `from`, or still short of `need`).
-            if j >= self.cruise_from
-                && let Some((length, moved)) = run.stretch()
-            {
-                let short = if run.x <= covered {
-                    0
-                } else if moved > Rational::from_exact(&Exact::ZERO) {
-                    // Steps i with x − i·moved > covered: i < (x − covered)/moved.
-                    ceil_steps(&(run.x.clone() - covered.clone()), &moved).saturating_sub(1)
-                } else {
-                    usize::MAX
-                };
-                let leap = length
-                    .min(short.saturating_add(1).max(from.saturating_sub(j)))
-                    .min(self.last_brake - j);
-                if leap >= 2 {
-                    run.leap(leap, &moved);
-                    continue;
-                }
-            }
-            run.step();
-        }
-        None
-    }
-
-    /// One step of the fastest approach from `gap` at step j.
-    fn fastest_step<N: Approach>(&self, s: &Params<N>, j: usize, gap: N) -> N {
-        let dt = &self.params.dt;
-        let closing = N::lift(&(self.position(j + 1) - self.position(j)));
-        // "Inside" is where no error can show the obstacle outside: a true gap ≤ ρ − σ_g;
-        // there its speed must be seen ≤ V_a for some error: ≤ V_a + σ_w.
-        let edge = s.rho.clone() - s.sigma_g.clone();
-        let at_w = gap.clone() - closing.clone() - s.W.times(dt);
-        let w = if at_w > edge {
-            s.W.clone()
-        } else {
-            let to_edge = (gap.clone() - closing.clone() - edge).times(&(Exact::ONE / dt));
-            let slow = slowest_fast(s);
-            let w = if to_edge > slow { to_edge } else { slow };
-            if w > s.W { s.W.clone() } else { w }
-        };
-        gap - closing - w.times(dt)
-    }
-
     /// Where a merged piece's optimum u* = g_m lies: the shift j ≥ 0 whose box contains it
     /// (boxes of consecutive shifts overlap, see the module docs).
     pub fn shift_for(&self, piece: &Piece, u: &Exact) -> usize {
@@ -1065,101 +966,9 @@ pub(crate) fn slowest_fast<N: Approach>(s: &Params<N>) -> N {
     if seen > s.W { s.W.clone() } else { seen }
 }
 
-/// The fastest approach ([`Decomposition::fastest_approach`]) at one point, step by step,
-/// in small rationals. It tracks the obstacle's own position x = gap + P_j (so the approach
-/// has covered g0 − x), which makes a step `x −= w·dt` with w chosen as in `fastest_step`:
-/// no robot step is subtracted, and hundreds of steps per decomposition stay cheap.
-struct FastApproach<'d> {
-    dec: &'d Decomposition,
-    /// W·dt, min(W, V_a + σ_w)·dt, the area's inner edge ρ − σ_g, the cruise step v_max·dt.
-    w_dt: Rational,
-    slow_dt: Rational,
-    edge: Rational,
-    cruise_step: Rational,
-    /// The step taken so far, the obstacle's position and the robot's at step j.
-    j: usize,
-    x: Rational,
-    next: Rational,
-}
-
-impl<'d> FastApproach<'d> {
-    fn new(dec: &'d Decomposition, p: &Params<Exact>) -> Self {
-        let q = Rational::from_exact;
-        let dt = q(&p.dt);
-        // (The robot starts at position 0, so x starts at g0.)
-        debug_assert!(dec.fast_positions[0] == Rational::from_exact(&Exact::ZERO));
-        FastApproach {
-            dec,
-            w_dt: q(&p.W) * dt.clone(),
-            slow_dt: q(&slowest_fast(p)) * dt,
-            edge: q(&p.rho) - q(&p.sigma_g),
-            cruise_step: q(&dec.params.v_max) * q(&dec.params.dt),
-            j: 0,
-            x: q(&p.g0),
-            next: dec.fast_positions[0].clone(),
-        }
-    }
-
-    /// While cruising (the robot's steps all `cruise_step`): how many steps from here move
-    /// the obstacle by one same amount, and that amount — W·dt while each step ends outside
-    /// the area's inner edge, the slowest in-area speed for good once the edge is behind (the
-    /// robot only closes in, so it stays behind); None for the one step that lands on it.
-    fn stretch(&self) -> Option<(usize, Rational)> {
-        // The i-th step ends outside iff x − i·W·dt > next + i·cruise_step + edge.
-        let room = self.x.clone() - self.next.clone() - self.edge.clone();
-        let per_step = self.w_dt.clone() + self.cruise_step.clone();
-        if room > per_step {
-            return Some((ceil_steps(&room, &per_step) - 1, self.w_dt.clone()));
-        }
-        // Landing on the edge would take to_edge ≤ the slowest speed: no faster step is left.
-        let to_edge = room - self.cruise_step.clone();
-        (to_edge <= self.slow_dt).then(|| (usize::MAX, self.slow_dt.clone()))
-    }
-
-    /// Takes `steps` cruising steps of `moved` each (see [`FastApproach::stretch`]).
-    fn leap(&mut self, steps: usize, moved: &Rational) {
-        let n = Rational::from_exact(&Exact::from(steps));
-        self.j += steps;
-        self.next = self.next.clone() + n.clone() * self.cruise_step.clone();
-        self.x = self.x.clone() - n * moved.clone();
-    }
-
-    /// Takes step j; returns how far the obstacle moved (w_j·dt).
-    fn step(&mut self) -> Rational {
-        self.j += 1;
-        self.next = match self.dec.fast_positions.get(self.j) {
-            Some(position) => position.clone(),
-            None => self.next.clone() + self.cruise_step.clone(),
-        };
-        // At W the obstacle ends the step outside the area's inner edge; else it moves to
-        // that edge, at least at the slowest in-area speed and at most at W.
-        let inner = self.next.clone() + self.edge.clone();
-        let at_w = self.x.clone() - self.w_dt.clone();
-        let moved = if at_w > inner {
-            self.w_dt.clone()
-        } else {
-            let to_edge = self.x.clone() - inner;
-            let w = if to_edge > self.slow_dt {
-                to_edge
-            } else {
-                self.slow_dt.clone()
-            };
-            if w > self.w_dt { self.w_dt.clone() } else { w }
-        };
-        self.x = self.x.clone() - moved.clone();
-        moved
-    }
-}
-
-/// ⌈a / b⌉ as a step count (a, b > 0; `usize::MAX` when it does not fit).
-fn ceil_steps(a: &Rational, b: &Rational) -> usize {
-    usize::try_from((a.clone() / b.clone()).to_exact().ceil()).unwrap_or(usize::MAX)
-}
-
 /// The numbers the area-respecting approach is computed in: exact values at a point (the
 /// slowest in-area speed, occlusion's lowest sighting gap) or affine in the parameters (an
-/// early piece's box end, with its slopes). Values along the whole approach go through
-/// [`FastApproach`] instead, in small rationals.
+/// early piece's box end, with its slopes).
 pub(crate) trait Approach:
     Clone + PartialOrd + std::ops::Add<Output = Self> + std::ops::Sub<Output = Self>
 {
@@ -1225,10 +1034,11 @@ fn above(rows: &mut Vec<Row>, label: String, e: &Affine, bound: ParamAffine) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn problem(v: f64, a: f64, b: f64, dt: f64) -> Problem {
+    /// The seed's problem with the robot's v_max, a, b and dt (other modules' tests too).
+    pub(crate) fn problem(v: f64, a: f64, b: f64, dt: f64) -> Problem {
         let text = format!(
             "name = \"t\"\n[robot]\nmax_speed = {v}\nacceleration = {a}\nbraking = {b}\ncontrol_period = {dt}\n\
              latency = 1\nclearance = 0.0\n[controller]\nassumed_obstacle_speed = 0.2\nreaction_radius = 1.4\n\
@@ -1236,67 +1046,6 @@ mod tests {
              obstacle_speed = 0.15\ninitial_gap = 10.0\n"
         );
         Problem::from_toml_str(&text, "test").expect("valid")
-    }
-
-    /// The fastest approach's cover search (obstacle positions in small rationals) finds
-    /// the first anchor a scan of [`Decomposition::fastest_approach`] (gaps in exact
-    /// numbers, the definition) finds: outside and inside the area, with noise, with the
-    /// slowest in-area speed below and at W, and before and after the cruise onset.
-    #[test]
-    fn the_fastest_approach_in_small_rationals_is_the_exact_definition() {
-        for (w, rho, v_a, sigma_g, sigma_w, g0) in [
-            (0.15, 1.4, 0.2, 0.0, 0.0, 10.0),
-            (0.3, 1.4, 0.05, 0.0, 0.0, 3.0),
-            (0.3, 2.5, 0.1, 0.2, 0.03, 4.0),
-            (0.05, 1.0, 0.01, 0.1, 0.0, 1.5),
-            // Numbers whose stretches end off the step grid (the step that lands on the
-            // area's edge moves less than W·dt).
-            (0.137, 1.33, 0.05, 0.013, 0.007, 7.77),
-            (0.29, 2.11, 0.11, 0.0, 0.02, 9.13),
-        ] {
-            let mut pr = problem(0.2, 0.1, 0.05, 0.1);
-            pr.environment.obstacle_speed = w;
-            pr.controller.reaction_radius = rho;
-            pr.controller.assumed_obstacle_speed = v_a;
-            pr.environment.initial_gap = crate::core::model::Position::At(g0);
-            pr.sensing = Some(crate::core::model::Sensing {
-                gap_noise: Some(sigma_g),
-                speed_noise: Some(sigma_w),
-                first_detection_gap: None,
-            });
-            let d = Decomposition::new(&pr);
-            let p = d.params.clone();
-            // What the approach has covered by each anchor: the obstacle's steps so far.
-            // (The definition: gaps stepped in exact affine numbers.)
-            let (speeds, gap) = d.fastest_approach_affine(&symbolic(&p), d.last_brake);
-            let mut covered = vec![Exact::ZERO];
-            for w in &speeds {
-                let last = covered.last().expect("not empty").clone();
-                covered.push(last + w.value.clone() * p.dt.clone());
-            }
-            // The witness path (small rationals) gives the same speeds and gap.
-            let (fast, fast_gap) = d.fastest_approach(d.last_brake);
-            assert!(fast.iter().zip(&speeds).all(|(a, b)| *a == b.value));
-            assert_eq!(fast_gap, gap.value);
-            // Covers reached outside the area, at its edge and deep inside it; and exactly
-            // each step's cover, so that the search (which leaps over cruising stretches)
-            // must land on every step's boundary exactly.
-            let mut needs = vec![Exact::ZERO, p.v_max.clone() * p.dt.clone()];
-            needs.extend((1..20).map(|k| p.g0.clone() * Exact::from(k) / Exact::from(20)));
-            let tiny = Exact::ONE / Exact::from(1_000_000_000_000u64);
-            needs.extend(covered.iter().step_by(3).cloned());
-            needs.extend(covered.iter().map(|c| c.clone() + tiny.clone()));
-            for need in needs {
-                for from in [0, 3, d.cruise_from, d.cruise_from + 7, d.last_brake] {
-                    let scan = (from..d.last_brake).find(|&j| covered[j] >= need);
-                    assert_eq!(
-                        d.first_fast_cover(&p, from, &need),
-                        scan,
-                        "W {w}, rho {rho}, V_a {v_a}, noise {sigma_g}/{sigma_w}, from {from}"
-                    );
-                }
-            }
-        }
     }
 
     /// Decompositions share drive profiles by robot, never across robots: interleaved robots
@@ -1315,10 +1064,11 @@ mod tests {
                 let mut pr = problem(v, a, 0.05, dt);
                 pr.robot.initial_speed = v0;
                 let d = Decomposition::new(&pr);
-                let (states, positions) = drive_profile(&d.params);
-                assert_eq!(*d.profile, states, "robot {v} {a} {dt} {v0:?}");
-                assert!(d.fast_positions.iter().zip(&positions).all(|(x, y)| x == y));
-                assert_eq!(d.fast_positions.len(), positions.len());
+                assert_eq!(
+                    *d.profile,
+                    drive_profile(&d.params),
+                    "robot {v} {a} {dt} {v0:?}"
+                );
             }
         }
     }
