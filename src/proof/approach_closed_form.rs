@@ -23,7 +23,44 @@
 use crate::core::model::Params;
 use crate::core::num::Exact;
 use crate::core::parameter::{ParamAffine, symbolic};
-use crate::proof::schedule::{Decomposition, slowest_fast};
+use crate::proof::schedule::Decomposition;
+
+/// The fastest speed an obstacle inside the area may have without the wrong-assumption
+/// guard firing for every error: min(W, V_a + σ_w).
+pub(crate) fn slowest_fast<N: Approach>(s: &Params<N>) -> N {
+    let seen = s.V_a.clone() + s.sigma_w.clone();
+    if seen > s.W { s.W.clone() } else { seen }
+}
+
+/// The numbers the area-respecting approach is computed in: exact values at a point (the
+/// slowest in-area speed, occlusion's lowest sighting gap) or affine in the parameters (an
+/// early piece's box end, with its slopes).
+pub(crate) trait Approach:
+    Clone + PartialOrd + std::ops::Add<Output = Self> + std::ops::Sub<Output = Self>
+{
+    /// A constant.
+    fn lift(x: &Exact) -> Self;
+    /// `self · k`.
+    fn times(&self, k: &Exact) -> Self;
+}
+
+impl Approach for Exact {
+    fn lift(x: &Exact) -> Self {
+        x.clone()
+    }
+    fn times(&self, k: &Exact) -> Self {
+        self * k
+    }
+}
+
+impl Approach for ParamAffine {
+    fn lift(x: &Exact) -> Self {
+        ParamAffine::constant(x.clone())
+    }
+    fn times(&self, k: &Exact) -> Self {
+        self.scaled(k)
+    }
+}
 
 impl Decomposition {
     /// k*: the first gap index at which the obstacle, at speed W from the start, is at or

@@ -47,7 +47,8 @@
 
 use crate::core::model::Params;
 use crate::core::num::{Exact, Scalar};
-use crate::proof::schedule::{Approach, Decomposition, Ending, slowest_fast};
+use crate::proof::approach_closed_form::{Approach, slowest_fast};
+use crate::proof::schedule::{Decomposition, Ending};
 
 impl Decomposition {
     /// Whether an obstacle may be first seen where every error shows it inside the area

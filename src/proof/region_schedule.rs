@@ -33,7 +33,8 @@ use crate::core::model::{Params, Problem};
 use crate::core::num::Exact;
 use crate::core::param_box::{End, ParamBox};
 use crate::core::parameter::{ParamAffine, Parameter, symbolic};
-use crate::proof::schedule::{Decomposition, min_opt, slowest_fast};
+use crate::proof::approach_closed_form::slowest_fast;
+use crate::proof::schedule::{Decomposition, min_opt};
 
 impl Decomposition {
     /// The pieces of every point of `region` for the (valid, point-start) `problem`, whose
