@@ -1524,18 +1524,12 @@ fn oracle(scene: &Scene) -> Answer {
     answer
 }
 
-/// A small deterministic generator (SplitMix64) for sampled behaviours.
-struct Mix(u64);
+#[path = "it/common/split_mix.rs"]
+mod split_mix;
+/// The sampled behaviours' generator.
+use split_mix::SplitMix as Mix;
 
 impl Mix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
     /// Uniform in [0, 1).
     fn unit(&mut self) -> f64 {
         (self.next() >> 11) as f64 / (1u64 << 53) as f64

@@ -33,6 +33,7 @@ mod monitor_region;
 mod monitor_scene;
 mod noise;
 mod pinning;
+mod plane_geometry;
 mod radius;
 mod region;
 mod region_statement;

@@ -1,8 +1,8 @@
 //! The scaffolding the integration tests share, written once: the problem builder and the
 //! random problems ([`spec`]), where files are ([`paths`]), the committed fixtures
 //! ([`fixtures`]), the command runner ([`cli`]), certificate forgeries ([`forgery`]),
-//! points of region maps ([`map_points`]) and feeding trace text to the monitor
-//! ([`monitoring`]).
+//! points of region maps ([`map_points`]), feeding trace text to the monitor
+//! ([`monitoring`]) and a deterministic generator ([`split_mix`]).
 //!
 //! Nothing here needs the solver or the binary at compile time, so `tests/lean` (built
 //! without default features) and `tests/brute_force.rs` include this module too, by path.
@@ -14,6 +14,7 @@ pub mod map_points;
 pub mod monitoring;
 pub mod paths;
 pub mod spec;
+pub mod split_mix;
 
 use tempfile::TempDir;
 
