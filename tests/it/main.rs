@@ -34,6 +34,7 @@ mod monitor_scene;
 mod noise;
 mod pinning;
 mod plane_geometry;
+mod plane_path;
 mod radius;
 mod region;
 mod region_statement;

@@ -15,3 +15,4 @@ pub mod direction;
 pub mod path;
 pub mod point;
 pub mod polygon;
+pub mod rational_path;
