@@ -31,7 +31,7 @@ pub enum Sight {
         /// The observation step of its first sighting.
         from: usize,
         /// Every read since then showed it beyond ρ, where no guard reads it (see
-        /// `tree::far_cell`: its next far read is dominated).
+        /// `tree::occlusion::far_cell`: its next far read is dominated).
         far_only: bool,
     },
     /// Hidden at every read observation before step `since` (observation steps: the gap at
