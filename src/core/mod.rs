@@ -9,6 +9,7 @@ pub mod output;
 pub mod param_box;
 pub mod parameter;
 pub mod plane;
+pub mod polynomial;
 pub mod rational;
 pub mod scene;
 pub mod semantics;

@@ -35,6 +35,7 @@ mod noise;
 mod pinning;
 mod plane_geometry;
 mod plane_path;
+mod polynomial;
 mod radius;
 mod region;
 mod region_statement;

@@ -10,20 +10,8 @@ use safereach::core::plane::path::{Path, PathError};
 use safereach::core::plane::point::{Point, segments_meet};
 use safereach::core::plane::polygon::{ConvexPolygon, PolygonError};
 
-/// The cases' generator.
+/// The cases' generator (with `int` and `rational` from `common::rational_draws`).
 use crate::common::split_mix::SplitMix as Rng;
-
-impl Rng {
-    /// An integer in [lo, hi].
-    fn int(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + (self.next() % (hi - lo + 1) as u64) as i64
-    }
-    /// A rational with denominator 1..=8 and value in about [−lim, lim].
-    fn rational(&mut self, lim: i64) -> Exact {
-        let den = self.int(1, 8);
-        RBig::from(self.int(-lim * den, lim * den)) / RBig::from(den)
-    }
-}
 
 fn p(x: i64, y: i64) -> Point {
     Point::new(Exact::from(x), Exact::from(y))

@@ -2,7 +2,8 @@
 //! random problems ([`spec`]), where files are ([`paths`]), the committed fixtures
 //! ([`fixtures`]), the command runner ([`cli`]), certificate forgeries ([`forgery`]),
 //! points of region maps ([`map_points`]), feeding trace text to the monitor
-//! ([`monitoring`]) and a deterministic generator ([`split_mix`]).
+//! ([`monitoring`]), a deterministic generator ([`split_mix`]) and its exact rational draws
+//! ([`rational_draws`]).
 //!
 //! Nothing here needs the solver or the binary at compile time, so `tests/lean` (built
 //! without default features) and `tests/brute_force.rs` include this module too, by path.
@@ -13,6 +14,7 @@ pub mod forgery;
 pub mod map_points;
 pub mod monitoring;
 pub mod paths;
+pub mod rational_draws;
 pub mod spec;
 pub mod split_mix;
 
