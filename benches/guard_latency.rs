@@ -4,7 +4,7 @@
 //! The robot: v_max 1 m/s, a 0.05 m/s², b 3 m/s², dt 0.01 s, V_a = 0 with the guard on,
 //! W 0.2 m/s, ρ 5 m, buffer 0, from 10 m, at latencies 50 to 400 periods. Every early
 //! piece's box end is the fastest approach's gap at its anchor; stepped once per piece it
-//! cost O(latency · steps) per piece (33 s at latency 200), in closed form
+//! cost O(latency · steps) per piece (34 s at latency 200), in closed form
 //! (`proof::approach_closed_form`) neither the time nor the pieces grow with the latency.
 //! Each latency is reported as a ratio to the same robot at latency 0, measured in the same
 //! run (wall-clock medians; no timing assertions anywhere: speed is measured here, never in

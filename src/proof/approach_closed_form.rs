@@ -5,7 +5,7 @@
 //! while that ends outside the area's inner edge ρ − σ_g, else at the slowest in-area speed
 //! V' = min(W, V_a + σ_w) — or, if that would stay outside, exactly onto the edge. Stepping
 //! it costs one exact step per anchor step, and every early piece of a long-latency robot
-//! asked for it anew (O(latency · steps) per piece: 33 s for one certificate).
+//! asked for it anew (O(latency · steps) per piece: 34 s for one certificate).
 //!
 //! The approach has only three phases, so F_m has a closed form. Let
 //! G_k = g0 − P_k − W·dt·k (the obstacle at W throughout) and k* the first index with
