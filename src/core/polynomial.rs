@@ -24,6 +24,8 @@
 //! ([`Polynomial::minimum_on`]) are built on those counts and prove themselves in their
 //! documentation.
 
+use dashu_int::ops::Abs;
+
 use std::ops::{Add, Mul, Neg, Sub};
 
 use crate::core::num::Exact;
@@ -186,11 +188,7 @@ impl Polynomial {
     pub fn sturm_sequence(&self) -> Vec<Polynomial> {
         let positive = |p: Polynomial| match p.coefficients.last() {
             Some(lead) => {
-                let magnitude = if *lead < Exact::ZERO {
-                    -lead.clone()
-                } else {
-                    lead.clone()
-                };
+                let magnitude = lead.clone().abs();
                 p.scale(&(Exact::ONE / magnitude))
             }
             None => p,
@@ -344,9 +342,9 @@ impl Polynomial {
                     .coefficients
                     .split_first()
                     .map_or((Exact::ZERO, &[][..]), |(d0, rest)| (d0.clone(), rest));
-                let gap = rest.iter().fold(Exact::ZERO, |sum, d| {
-                    if *d < Exact::ZERO { sum - d } else { sum + d }
-                });
+                let gap = rest
+                    .iter()
+                    .fold(Exact::ZERO, |sum, d| sum + d.clone().abs());
                 if gap < *width {
                     consider(&d0 - &gap, d0, &centre);
                     break;
