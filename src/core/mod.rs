@@ -8,6 +8,7 @@ pub mod num;
 pub mod output;
 pub mod param_box;
 pub mod parameter;
+pub mod planar;
 pub mod plane;
 pub mod polynomial;
 pub mod rational;
