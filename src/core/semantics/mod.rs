@@ -23,10 +23,12 @@ mod motion;
 mod state;
 #[cfg(test)]
 pub(crate) mod tests;
+mod within;
 mod world;
 
 pub use controller::{BrakeReason, Observation, danger_distance, guard};
 pub use leap::{Leap, Watch};
 pub use motion::{Motion, robot_motion};
 pub use state::{Mode, RobotState};
+pub use within::state_within;
 pub use world::{StepRecord, World};
