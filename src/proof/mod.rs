@@ -11,6 +11,7 @@ pub mod check;
 pub mod exact_speed_runs;
 pub mod json_read;
 pub mod occlusion_schedule;
+pub mod planar;
 pub mod premise;
 pub mod program;
 pub mod region_check;

@@ -1,0 +1,177 @@
+//! Convex covers of the outside of a disc (docs/reductions.md Lemma P3(2)): arcs of
+//! directions, each giving three half-planes whose intersection holds every point outside
+//! the disc in that arc's sector. Refining an arc halves it; the cover's loss falls by
+//! about four.
+//!
+//! Directions are rational unit vectors parametrised by the half-angle tangent t ∈ [−1, 1]
+//! (angles in [−90°, 90°]), and their negatives for the back half: dir(t) =
+//! ((1 − t²)/(1 + t²), 2t/(1 + t²)), whose angle 2·atan(t) increases with t, so an arc
+//! [t_lo, t_hi] runs counter-clockwise from dir(t_lo) to dir(t_hi) and its mid direction
+//! dir((t_lo + t_hi)/2) lies on it.
+
+use crate::core::num::Exact;
+use crate::core::plane::direction::RationalDirection;
+use crate::core::plane::point::Point;
+
+/// A closed half-plane {x : normal·x ≥ offset}.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct HalfPlane {
+    /// Its inner normal (any length).
+    pub normal: Point,
+    /// Its offset.
+    pub offset: Exact,
+}
+
+impl HalfPlane {
+    /// Whether `p` lies in it.
+    pub fn contains(&self, p: &Point) -> bool {
+        self.normal.dot(p) >= self.offset
+    }
+}
+
+/// An arc of directions: dir(t) for t ∈ [lo, hi] ⊆ [−1, 1], negated when `back`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Arc {
+    /// The back half of the circle (directions negated).
+    pub back: bool,
+    /// The least half-angle tangent.
+    pub lo: Exact,
+    /// The greatest half-angle tangent.
+    pub hi: Exact,
+}
+
+impl Arc {
+    /// Four quarter-turn arcs that cover the circle.
+    pub fn quarters() -> Vec<Arc> {
+        let (m1, z, p1) = (-Exact::ONE, Exact::ZERO, Exact::ONE);
+        [false, true]
+            .into_iter()
+            .flat_map(|back| {
+                [
+                    Arc {
+                        back,
+                        lo: m1.clone(),
+                        hi: z.clone(),
+                    },
+                    Arc {
+                        back,
+                        lo: z.clone(),
+                        hi: p1.clone(),
+                    },
+                ]
+            })
+            .collect()
+    }
+
+    fn direction(&self, t: &Exact) -> Point {
+        let u = RationalDirection::from_half_angle_tangent(t).unit().clone();
+        if self.back { -&u } else { u }
+    }
+
+    /// The arc's two halves.
+    pub fn halves(&self) -> [Arc; 2] {
+        let mid = (&self.lo + &self.hi) / Exact::from(2);
+        [
+            Arc {
+                back: self.back,
+                lo: self.lo.clone(),
+                hi: mid.clone(),
+            },
+            Arc {
+                back: self.back,
+                lo: mid,
+                hi: self.hi.clone(),
+            },
+        ]
+    }
+
+    /// The three half-planes holding every x with ‖x − centre‖ > radius whose direction
+    /// from `centre` lies on the arc: a × (x − c) ≥ 0, (x − c) × b ≥ 0 and
+    /// m·(x − c) ≥ radius·min(m·a, m·b) (Lemma P3(2); arcs here span at most a quarter
+    /// turn, so m·a and m·b are ≥ 0).
+    pub fn half_planes(&self, centre: &Point, radius: &Exact) -> [HalfPlane; 3] {
+        let a = self.direction(&self.lo);
+        let b = self.direction(&self.hi);
+        let m = self.direction(&((&self.lo + &self.hi) / Exact::from(2)));
+        let least = {
+            let (ma, mb) = (m.dot(&a), m.dot(&b));
+            if ma < mb { ma } else { mb }
+        };
+        let after_a = Point::new(-a.y.clone(), a.x.clone());
+        let before_b = Point::new(b.y.clone(), -b.x.clone());
+        [
+            HalfPlane {
+                offset: after_a.dot(centre),
+                normal: after_a,
+            },
+            HalfPlane {
+                offset: before_b.dot(centre),
+                normal: before_b,
+            },
+            HalfPlane {
+                offset: m.dot(centre) + radius * least,
+                normal: m,
+            },
+        ]
+    }
+
+    /// How much the arc's cover can lose against the disc: radius·(1 − min(m·a, m·b)).
+    pub fn loss(&self, radius: &Exact) -> Exact {
+        let a = self.direction(&self.lo);
+        let b = self.direction(&self.hi);
+        let m = self.direction(&((&self.lo + &self.hi) / Exact::from(2)));
+        let (ma, mb) = (m.dot(&a), m.dot(&b));
+        radius * (Exact::ONE - if ma < mb { ma } else { mb })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every point outside the disc lies in the cover of some quarter, at every refinement,
+    /// and a point strictly inside the disc by more than the loss lies in none: the cover
+    /// is sound (Lemma P3) and its loss bound is right.
+    #[test]
+    fn arcs_cover_the_outside_of_the_disc_and_no_more_than_the_loss() {
+        let centre = Point::decimal(0.3, -0.7);
+        let radius = crate::core::num::exact_decimal(1.25);
+        let mut arcs = Arc::quarters();
+        for _ in 0..3 {
+            arcs = arcs.iter().flat_map(|a| a.halves()).collect();
+        }
+        let loss = arcs
+            .iter()
+            .map(|a| a.loss(&radius))
+            .fold(Exact::ZERO, |m, l| if l > m { l } else { m });
+        for i in 0..720 {
+            let angle = (i as f64) * std::f64::consts::PI / 360.0;
+            for scale in [1.0001, 1.3, 4.0] {
+                let r = 1.25 * scale;
+                let x = Point::decimal(0.3 + r * angle.cos(), -0.7 + r * angle.sin());
+                let rel = &x - &centre;
+                if rel.norm_squared() <= &radius * &radius {
+                    continue; // the float placed it on the rim or inside
+                }
+                assert!(
+                    arcs.iter().any(|a| a
+                        .half_planes(&centre, &radius)
+                        .iter()
+                        .all(|h| h.contains(&x))),
+                    "uncovered at angle {angle}, scale {scale}"
+                );
+            }
+            let inner = 1.25 * 0.5;
+            let x = Point::decimal(0.3 + inner * angle.cos(), -0.7 + inner * angle.sin());
+            if Exact::from(1) - crate::core::num::exact_decimal(0.5) > &loss / &radius {
+                assert!(
+                    !arcs.iter().any(|a| a
+                        .half_planes(&centre, &radius)
+                        .iter()
+                        .all(|h| h.contains(&x))),
+                    "a point well inside is covered at angle {angle}"
+                );
+            }
+        }
+    }
+}

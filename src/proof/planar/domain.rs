@@ -1,0 +1,333 @@
+//! What one obstacle's lower bound must cover (docs/reductions.md Lemmas P2, P5, P6): every
+//! moving instant under every brake step, as finitely many *pieces*, each a time interval
+//! with the anchor observation that bounds it; and a piece's sub-interval and arc as a
+//! [`Leaf`].
+//!
+//! - `Pre(m)`: the instants of step m before any brake, shared by every brake step T > m
+//!   and by "never": the robot is on its drive profile, and step k = m is an anchor for
+//!   all of them (k < T) when m ≥ L.
+//! - `Post(T)`: the instants from T·dt to the rest instant τ_T when the robot brakes at T,
+//!   anchored by step T − 1 (when T − 1 ≥ L).
+//!
+//! Beyond a *horizon* step H no piece is needed: when the path ends, no brake step lies
+//! beyond the destination guard's; otherwise Lemma P6(3)'s outrun rule finds H from the
+//! last segment (the robot outruns everything the obstacle can reach, or leaves its
+//! bounded region), decided in rationals.
+
+use crate::core::num::Exact;
+use crate::core::planar::{DangerZone, PlanarObstacle, PlanarParams, Start};
+use crate::core::plane::point::Point;
+use crate::core::semantics::danger_distance;
+
+use super::cover::{Arc, HalfPlane};
+use super::leaf::{Leaf, Travel};
+use super::trajectory::{BrakeTrajectory, DriveProfile};
+
+/// Which instants a piece covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PieceKind {
+    /// Step m on the drive profile, before any brake.
+    Pre(usize),
+    /// From the brake step T to the rest instant.
+    Post(usize),
+}
+
+/// The anchor of a piece: the disc around the robot's centre at the observed instant that
+/// the obstacle's centre was outside of (Lemma P1: the sure-fire disc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Anchor {
+    /// The anchor step k.
+    pub step: usize,
+    /// The observed instant's index j = k − L.
+    pub instant: usize,
+    /// The robot's centre at j·dt.
+    pub centre: Point,
+    /// The sure-fire radius: min(θ_k + r − σ_p, range, d_det + r); > 0.
+    pub radius: Exact,
+}
+
+/// One piece: a time interval and its anchor (None: only the reachable set bounds it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piece {
+    /// Which instants.
+    pub kind: PieceKind,
+    /// The brake step of the robot's motion on this piece (None: the drive profile).
+    pub brake: Option<usize>,
+    /// The first instant.
+    pub from: Exact,
+    /// The last instant (closed: the rest instant is included, which only lowers bounds).
+    pub to: Exact,
+    /// The anchor, if any.
+    pub anchor: Option<Anchor>,
+}
+
+/// Why an obstacle's pieces cannot be listed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum DomainError {
+    /// A setting the planar bound does not cover yet (the setting's name).
+    Unsupported(&'static str),
+    /// The path has no end and the obstacle can keep up with the robot in an unbounded
+    /// region: finitely many pieces do not cover it yet (Lemma P6(2)'s tail).
+    Unbounded,
+}
+
+/// One obstacle's bound problem: its pieces, and how to make a leaf of each.
+pub struct ObstacleDomain<'a> {
+    params: &'a PlanarParams,
+    obstacle: &'a PlanarObstacle,
+    profile: DriveProfile,
+    /// r_R + r_i + the path's drift.
+    pub radii: Exact,
+    /// The pieces, in time order of their first instant.
+    pub pieces: Vec<Piece>,
+}
+
+impl<'a> ObstacleDomain<'a> {
+    /// The pieces of obstacle `index` that can bring its separation to `goal` or below.
+    /// `goal` (usually the clearance, or the best witness's separation) only sets the
+    /// horizon: instants past it are proved above `goal` by the outrun rule.
+    pub fn new(
+        params: &'a PlanarParams,
+        index: usize,
+        goal: &Exact,
+        step_limit: usize,
+    ) -> Result<Self, DomainError> {
+        if matches!(params.zone, DangerZone::Polygon(_)) {
+            return Err(DomainError::Unsupported(
+                "controller.danger_zone = \"polygon\"",
+            ));
+        }
+        if params.sensing.view_cos_half.is_some() {
+            return Err(DomainError::Unsupported("sensing.field_of_view"));
+        }
+        let obstacle = &params.obstacles[index];
+        let goal_len = params.path_ends.then(|| params.path.length());
+        let mut profile = DriveProfile::new(params.motion.clone(), goal_len);
+        let radii = &params.robot_radius + &obstacle.radius + params.path.drift();
+        let horizon = horizon(params, obstacle, &mut profile, &radii, goal, step_limit)?;
+        let mut domain = ObstacleDomain {
+            params,
+            obstacle,
+            profile,
+            radii,
+            pieces: Vec::new(),
+        };
+        domain.list(horizon);
+        Ok(domain)
+    }
+
+    /// Every piece up to the horizon: Pre(m) for m < H, Post(T) for T ≤ min(H, the
+    /// destination step).
+    fn list(&mut self, horizon: Horizon) {
+        let dt = self.params.motion.dt.clone();
+        let l = self.params.motion.L;
+        let last_brake = horizon.last_brake;
+        for m in 0..horizon.steps {
+            let anchor = (m >= l).then(|| self.anchor(m)).flatten();
+            if last_brake.is_some_and(|t| m >= t) {
+                break; // the destination guard has braked the robot by then
+            }
+            let from = Exact::from(m) * &dt;
+            let to = Exact::from(m + 1) * &dt;
+            self.pieces.push(Piece {
+                kind: PieceKind::Pre(m),
+                brake: None,
+                from,
+                to,
+                anchor,
+            });
+        }
+        let brakes = last_brake.map_or(horizon.steps, |t| t.min(horizon.steps));
+        for t in 0..=brakes {
+            let trajectory = BrakeTrajectory::new(&mut self.profile, Some(t));
+            let from = Exact::from(t) * &dt;
+            let rest = trajectory.rest.clone().expect("a braking robot rests");
+            if rest <= from {
+                continue; // at rest already: no moving instant
+            }
+            let anchor = (t > l).then(|| self.anchor(t - 1)).flatten();
+            self.pieces.push(Piece {
+                kind: PieceKind::Post(t),
+                brake: Some(t),
+                from,
+                to: rest,
+                anchor,
+            });
+        }
+    }
+
+    /// The sure-fire disc of step k (Lemma P1), if its radius is positive.
+    fn anchor(&mut self, k: usize) -> Option<Anchor> {
+        let p = &self.params.motion;
+        let l = p.L;
+        let j = k - l;
+        let v = self.profile.start(k).speed.clone();
+        let theta = match danger_distance(p, &v) {
+            Some(d) if d < p.rho => d,
+            _ => p.rho.clone(),
+        };
+        let s = &self.params.sensing;
+        let mut radius = theta + &self.radii - &s.position_noise;
+        if let Some(range) = &s.range
+            && *range < radius
+        {
+            radius = range.clone();
+        }
+        if let Some(d) = &s.first_detection {
+            let hidden = d + &self.radii;
+            if hidden < radius {
+                radius = hidden;
+            }
+        }
+        if radius <= Exact::ZERO {
+            return None;
+        }
+        let drive = BrakeTrajectory::new(&mut self.profile, None);
+        let at = Exact::from(j) * &p.dt;
+        let centre = drive.centre_at(&mut self.profile, &self.params.path, &at);
+        Some(Anchor {
+            step: k,
+            instant: j,
+            centre,
+            radius,
+        })
+    }
+
+    /// s(t₂) − s(t₁) for the robot's motion on piece `index`: the chord loss of Lemma P4.
+    pub fn arc_length_gain(&mut self, index: usize, t1: &Exact, t2: &Exact) -> Exact {
+        let trajectory = BrakeTrajectory::new(&mut self.profile, self.pieces[index].brake);
+        let s1 = trajectory.state_at(&mut self.profile, t1).position;
+        trajectory.state_at(&mut self.profile, t2).position - s1
+    }
+
+    /// The leaf of `piece` on the sub-interval [t1, t2] ⊆ [piece.from, piece.to], in the
+    /// cover set of `arc` (None: the piece has no anchor).
+    pub fn leaf(&mut self, piece: &Piece, t1: &Exact, t2: &Exact, arc: Option<&Arc>) -> Leaf {
+        let dt = self.params.motion.dt.clone();
+        let trajectory = BrakeTrajectory::new(&mut self.profile, piece.brake);
+        let s1 = trajectory.state_at(&mut self.profile, t1).position;
+        let s2 = trajectory.state_at(&mut self.profile, t2).position;
+        let target = self.params.path.point_at(&s1);
+        let chord = s2 - s1;
+        let w = &self.obstacle.max_speed;
+        // Where the obstacle can get in the times [lo, hi] after (or, negative, before) a
+        // known centre: within W·max|t| (free), or w·d with w·t, w ∈ [0, W] (fixed).
+        let travel = |lo: Exact, hi: Exact| -> Travel {
+            let zero = Exact::ZERO;
+            match &self.obstacle.direction {
+                None => {
+                    let far = if -lo.clone() > hi { -lo } else { hi };
+                    Travel::Free(w * &far)
+                }
+                Some(d) => Travel::Along {
+                    direction: d.unit().clone(),
+                    lo: if lo < zero { w * &lo } else { zero.clone() },
+                    hi: if hi > zero { w * &hi } else { zero },
+                },
+            }
+        };
+        let (to_anchor, to_instant, cover) = match &piece.anchor {
+            Some(a) => {
+                let at = Exact::from(a.instant) * &dt;
+                let cover: Vec<HalfPlane> = arc
+                    .map(|arc| arc.half_planes(&a.centre, &a.radius).to_vec())
+                    .unwrap_or_default();
+                (
+                    travel(Exact::ZERO, at.clone()),
+                    travel(t1 - &at, t2 - &at),
+                    cover,
+                )
+            }
+            None => (
+                travel(Exact::ZERO, t2.clone()),
+                travel(Exact::ZERO, Exact::ZERO),
+                Vec::new(),
+            ),
+        };
+        Leaf {
+            target,
+            start: self.obstacle.start.clone(),
+            to_anchor,
+            to_instant,
+            region: self.obstacle.region.clone(),
+            cover,
+            constant: -(&self.radii + &chord),
+        }
+    }
+}
+
+/// How far the pieces go.
+struct Horizon {
+    /// Pre(m) for m below this; Post(T) for T up to it.
+    steps: usize,
+    /// The destination guard's step, when the path ends.
+    last_brake: Option<usize>,
+}
+
+/// The horizon of Lemma P6: the destination step when the path ends, else the first step
+/// H from which the outrun rule proves every later instant, braking or not, above `goal`.
+fn horizon(
+    params: &PlanarParams,
+    obstacle: &PlanarObstacle,
+    profile: &mut DriveProfile,
+    radii: &Exact,
+    goal: &Exact,
+    step_limit: usize,
+) -> Result<Horizon, DomainError> {
+    if params.path_ends {
+        let last = profile
+            .destination_step(step_limit)
+            .ok_or(DomainError::Unbounded)?;
+        return Ok(Horizon {
+            steps: last,
+            last_brake: Some(last),
+        });
+    }
+    let p = params.motion.clone();
+    let last = params.path.segments().last().expect("a path has a segment");
+    let u = last.direction.unit().clone();
+    // The farthest along u the obstacle can start, and (bounded region) ever be.
+    let corners: Vec<Point> = match &obstacle.start {
+        Start::At(q) => vec![q.clone()],
+        Start::Box { min, max } => vec![
+            min.clone(),
+            max.clone(),
+            Point::new(min.x.clone(), max.y.clone()),
+            Point::new(max.x.clone(), min.y.clone()),
+        ],
+    };
+    let reach_front = max_dot(&u, &corners);
+    let region_front = obstacle.region.as_ref().map(|q| max_dot(&u, q.vertices()));
+    let w = &obstacle.max_speed;
+    let brake_time = &p.v_max / &p.b_min;
+    for h in 0..=step_limit {
+        let s = profile.start(h).clone();
+        if s.speed < p.v_max || s.position < last.arc_start {
+            continue;
+        }
+        let at = Exact::from(h) * &p.dt;
+        let ahead = u.dot(&params.path.point_at(&s.position));
+        // Braking at any T ≥ h or driving on: the robot is at least this far along u at
+        // every later instant, and the obstacle at most its start's front plus W·t.
+        let outrun = &ahead - &reach_front - w * &(&at + &brake_time) - radii;
+        let outrun_ok = *w < p.v_max && outrun > *goal;
+        let left = region_front
+            .as_ref()
+            .is_some_and(|front| &ahead - front - radii > *goal);
+        if outrun_ok || left {
+            return Ok(Horizon {
+                steps: h,
+                last_brake: None,
+            });
+        }
+    }
+    Err(DomainError::Unbounded)
+}
+
+fn max_dot(u: &Point, points: &[Point]) -> Exact {
+    points
+        .iter()
+        .map(|q| u.dot(q))
+        .reduce(|a, b| if a > b { a } else { b })
+        .expect("at least one point")
+}
