@@ -5,6 +5,7 @@ mod analyse;
 mod certify;
 pub mod lp;
 mod monte_carlo;
+pub mod planar;
 pub mod radius;
 pub mod region;
 pub mod region_lift;

@@ -33,6 +33,7 @@ mod monitor_region;
 mod monitor_scene;
 mod noise;
 mod pinning;
+mod planar_bound;
 mod plane_geometry;
 mod plane_path;
 mod polynomial;

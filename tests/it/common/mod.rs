@@ -11,6 +11,7 @@
 pub mod cli;
 pub mod fixtures;
 pub mod forgery;
+pub mod line_in_plane;
 pub mod map_points;
 pub mod monitoring;
 pub mod paths;
