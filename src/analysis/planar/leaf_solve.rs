@@ -2,6 +2,7 @@
 //! multipliers, `proof::program` turns them into a rational lower bound (or a Farkas proof
 //! that the leaf is empty). A solver failure is reported, never read as a bound.
 
+use crate::analysis::analyse::WITNESS_MARGIN;
 use crate::analysis::lp::{LpOutcome, solve};
 use crate::core::num::Exact;
 use crate::proof::planar::leaf::Leaf;
@@ -27,6 +28,9 @@ pub enum LeafBound {
 /// Solves `leaf` and bounds it exactly.
 pub fn bound_leaf(leaf: &Leaf) -> LeafBound {
     let program = leaf.program();
+    if program.infeasible_row().is_some() {
+        return LeafBound::Empty; // one row no point of the box meets: no solver needed
+    }
     match solve(&program, 0.0) {
         LpOutcome::Optimal { x, z, value } => match program.bound(&z, true) {
             Some(lower) => LeafBound::Lower {
@@ -41,5 +45,20 @@ pub fn bound_leaf(leaf: &Leaf) -> LeafBound {
             None => LeafBound::Failed("infeasible without an exact Farkas proof".into()),
         },
         LpOutcome::Failed { status } => LeafBound::Failed(status),
+    }
+}
+
+/// Whether `leaf` is empty once its strict rows are strict: the closure may hold only on a
+/// guard's very threshold, where the guard fires (a static obstacle exactly at the reaction
+/// distance). The solver proposes a Farkas certificate with the strict rows moved inside;
+/// `proof::program` checks it exactly.
+pub fn strictly_empty(leaf: &Leaf) -> bool {
+    let program = leaf.program();
+    if program.infeasible_row().is_some() {
+        return true;
+    }
+    match solve(&program, WITNESS_MARGIN) {
+        LpOutcome::Infeasible { z } => program.proves_empty(&z).is_some(),
+        _ => false,
     }
 }

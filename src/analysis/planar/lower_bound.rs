@@ -5,6 +5,15 @@
 //! tolerance (its bound is then the relaxation's minimum, and it is not above the goal), or
 //! the budget of programs is spent.
 //!
+//! Before a leaf is split its middle instant is solved alone (no time loss): that value,
+//! plus the arc's loss, estimates from above the relaxation's value at that instant, so the
+//! least such *probe* estimates the relaxation's minimum; the search also stops when the
+//! lowest bound is within the tolerance of it. Without this, a plateau — an obstacle that
+//! can touch the robot over an interval of instants — would be refined leaf by leaf to the
+//! tolerance. The estimate only decides when to stop, never what is proved.
+//!
+//! A distance is never negative, so every leaf's bound is at least −(r_R + r_i + D).
+//!
 //! The bound returned is always the least exact bound over leaves that together cover
 //! every piece: refinement replaces a leaf by two that cover it (halves of an interval, of
 //! an arc), so it is a lower bound on s* at every stage.
@@ -14,10 +23,9 @@ use std::collections::BinaryHeap;
 
 use crate::core::num::Exact;
 use crate::core::planar::PlanarParams;
-use crate::proof::planar::cover::Arc;
-use crate::proof::planar::domain::{DomainError, ObstacleDomain, PieceKind};
+use crate::proof::planar::domain::{CoverPiece, DomainError, ObstacleDomain, PieceKind};
 
-use super::leaf_solve::{LeafBound, bound_leaf};
+use super::leaf_solve::{LeafBound, bound_leaf, strictly_empty};
 
 /// How far to refine.
 #[derive(Clone, Debug)]
@@ -68,6 +76,9 @@ pub struct LowerBound {
     pub programs: usize,
     /// The budget ran out before the stop rule held.
     pub exhausted: bool,
+    /// Leaves the solver could not bound, each given the floor −(r_R + r_i + D) instead
+    /// and split further (sound; the bound is loose only if one of them stays lowest).
+    pub unsolved: usize,
 }
 
 /// Why no bound was proved.
@@ -75,8 +86,6 @@ pub struct LowerBound {
 pub enum LowerBoundError {
     /// The problem has a setting the bound does not cover (or no finite horizon).
     Domain(DomainError),
-    /// A program the bound needs was not solved (its status, and which leaf).
-    Solver(String),
 }
 
 struct Node {
@@ -86,7 +95,9 @@ struct Node {
     piece: usize,
     from: Exact,
     to: Exact,
-    arc: Option<Arc>,
+    cover: CoverPiece,
+    time_loss: Exact,
+    arc_loss: Exact,
 }
 
 impl PartialEq for Node {
@@ -119,11 +130,13 @@ pub fn lower_bound(
         worst: None,
         programs: 0,
         exhausted: false,
+        unsolved: 0,
     };
     for i in 0..params.obstacles.len() {
         let one = obstacle_bound(params, i, goal, options)?;
         total.programs += one.programs;
         total.exhausted |= one.exhausted;
+        total.unsolved += one.unsolved;
         if one.lower < total.lower {
             total.lower = one.lower;
             total.worst = one.worst;
@@ -143,56 +156,56 @@ fn obstacle_bound(
     let w = params.obstacles[index].max_speed.clone();
     let mut heap = BinaryHeap::new();
     let programs = std::cell::Cell::new(0usize);
+    let unsolved = std::cell::Cell::new(0usize);
+    // The least probe estimate: the relaxation's minimum is at most this.
+    let mut above: Option<Exact> = None;
     let pieces = domain.pieces.clone();
+    let floor = -domain.radii.clone();
     let solve = |domain: &mut ObstacleDomain<'_>,
                  piece: usize,
                  from: Exact,
                  to: Exact,
-                 arc: Option<Arc>,
-                 heap: &mut BinaryHeap<Node>|
-     -> Result<(), LowerBoundError> {
+                 cover: CoverPiece,
+                 heap: &mut BinaryHeap<Node>| {
         programs.set(programs.get() + 1);
-        let leaf = domain.leaf(&pieces[piece], &from, &to, arc.as_ref());
-        match bound_leaf(&leaf) {
-            LeafBound::Empty => Ok(()),
+        let leaf = domain.leaf(&pieces[piece], &from, &to, &cover);
+        let (lower, value, point) = match bound_leaf(&leaf) {
+            LeafBound::Empty => return,
             LeafBound::Lower {
                 lower,
                 value,
                 point,
-            } => {
-                heap.push(Node {
-                    lower,
-                    value,
-                    point,
-                    piece,
-                    from,
-                    to,
-                    arc,
-                });
-                Ok(())
+            } => (lower, value, point),
+            LeafBound::Failed(_) => {
+                unsolved.set(unsolved.get() + 1);
+                (floor.clone(), floor.to_f64().value(), Vec::new())
             }
-            LeafBound::Failed(status) => Err(LowerBoundError::Solver(format!(
-                "obstacle {index}, {:?}, instants [{}, {}]: {status}",
-                pieces[piece].kind,
-                from.to_f64().value(),
-                to.to_f64().value()
-            ))),
-        }
+        };
+        // A distance is never negative: no separation is below −(r_R + r_i).
+        let lower = if lower < floor { floor.clone() } else { lower };
+        // Lemma P4's loss: the chord plus the obstacle's travel over the interval.
+        let mut time_loss = domain.arc_length_gain(piece, &from, &to);
+        time_loss += &w * &(&to - &from);
+        let arc_loss = match (&cover, &pieces[piece].anchor) {
+            (CoverPiece::Arc(arc), Some(a)) => arc.loss(&a.radius),
+            _ => Exact::ZERO,
+        };
+        heap.push(Node {
+            lower,
+            value,
+            point,
+            piece,
+            from,
+            to,
+            cover,
+            time_loss,
+            arc_loss,
+        });
     };
     for (p, piece) in pieces.iter().enumerate() {
-        let arcs: Vec<Option<Arc>> = match piece.anchor {
-            Some(_) => Arc::quarters().into_iter().map(Some).collect(),
-            None => vec![None],
-        };
-        for arc in arcs {
-            solve(
-                &mut domain,
-                p,
-                piece.from.clone(),
-                piece.to.clone(),
-                arc,
-                &mut heap,
-            )?;
+        for cover in domain.initial_covers(piece) {
+            let (from, to) = (piece.from.clone(), piece.to.clone());
+            solve(&mut domain, p, from, to, cover, &mut heap);
         }
     }
     let mut exhausted = false;
@@ -200,17 +213,39 @@ fn obstacle_bound(
         if node.lower > *goal {
             break;
         }
-        let piece = &pieces[node.piece];
-        let time_loss = {
-            let mut d = domain_chord(&mut domain, node.piece, &node.from, &node.to);
-            d += &w * &(&node.to - &node.from);
-            d
-        };
-        let arc_loss = match (&node.arc, &piece.anchor) {
-            (Some(arc), Some(a)) => arc.loss(&a.radius),
-            _ => Exact::ZERO,
-        };
-        if time_loss <= options.tolerance && arc_loss <= options.tolerance {
+        let (time_loss, arc_loss) = (node.time_loss.clone(), node.arc_loss.clone());
+        let converged = time_loss <= options.tolerance && arc_loss <= options.tolerance;
+        if converged
+            || above
+                .as_ref()
+                .is_some_and(|a| &node.lower + &options.tolerance >= *a)
+        {
+            // About to stop on this leaf: drop it if only its closure is feasible.
+            let leaf = domain.leaf(&pieces[node.piece], &node.from, &node.to, &node.cover);
+            programs.set(programs.get() + 1);
+            if strictly_empty(&leaf) {
+                heap.pop();
+                continue;
+            }
+        }
+        if converged {
+            break;
+        }
+        // The probe (module docs): the middle instant alone, an estimate from above.
+        let middle = (&node.from + &node.to) / Exact::from(2);
+        let probe = domain.leaf(&pieces[node.piece], &middle, &middle, &node.cover);
+        programs.set(programs.get() + 1);
+        if let LeafBound::Lower { lower, .. } = bound_leaf(&probe) {
+            let lower = if lower < floor { floor.clone() } else { lower };
+            let estimate = lower + &arc_loss;
+            if above.as_ref().is_none_or(|a| estimate < *a) {
+                above = Some(estimate);
+            }
+        }
+        if above
+            .as_ref()
+            .is_some_and(|a| &node.lower + &options.tolerance >= *a)
+        {
             break;
         }
         if programs.get() + 2 > options.budget {
@@ -218,46 +253,23 @@ fn obstacle_bound(
             break;
         }
         let node = heap.pop().expect("peeked");
-        if time_loss >= arc_loss {
+        let children: Vec<(Exact, Exact, CoverPiece)> = if time_loss >= arc_loss {
             let mid = (&node.from + &node.to) / Exact::from(2);
-            solve(
-                &mut domain,
-                node.piece,
-                node.from.clone(),
-                mid.clone(),
-                node.arc.clone(),
-                &mut heap,
-            )?;
-            solve(
-                &mut domain,
-                node.piece,
-                mid,
-                node.to.clone(),
-                node.arc.clone(),
-                &mut heap,
-            )?;
+            vec![
+                (node.from.clone(), mid.clone(), node.cover.clone()),
+                (mid, node.to.clone(), node.cover.clone()),
+            ]
         } else {
-            let [a, b] = node
-                .arc
-                .as_ref()
-                .expect("an arc loss needs an arc")
-                .halves();
-            solve(
-                &mut domain,
-                node.piece,
-                node.from.clone(),
-                node.to.clone(),
-                Some(a),
-                &mut heap,
-            )?;
-            solve(
-                &mut domain,
-                node.piece,
-                node.from.clone(),
-                node.to.clone(),
-                Some(b),
-                &mut heap,
-            )?;
+            let CoverPiece::Arc(arc) = &node.cover else {
+                unreachable!("only an arc has an arc loss");
+            };
+            arc.halves()
+                .into_iter()
+                .map(|half| (node.from.clone(), node.to.clone(), CoverPiece::Arc(half)))
+                .collect()
+        };
+        for (from, to, cover) in children {
+            solve(&mut domain, node.piece, from, to, cover, &mut heap);
         }
     }
     Ok(match heap.peek() {
@@ -273,17 +285,14 @@ fn obstacle_bound(
             }),
             programs: programs.get(),
             exhausted,
+            unsolved: unsolved.get(),
         },
         None => LowerBound {
             lower: Exact::from(i64::MAX),
             worst: None,
             programs: programs.get(),
             exhausted,
+            unsolved: unsolved.get(),
         },
     })
-}
-
-/// s(t₂) − s(t₁) on a piece: the chord loss of Lemma P4.
-fn domain_chord(domain: &mut ObstacleDomain<'_>, piece: usize, from: &Exact, to: &Exact) -> Exact {
-    domain.arc_length_gain(piece, from, to)
 }

@@ -10,7 +10,7 @@
 //! dir((t_lo + t_hi)/2) lies on it.
 
 use crate::core::num::Exact;
-use crate::core::plane::direction::RationalDirection;
+use crate::core::plane::direction::{RationalDirection, rational_sqrt};
 use crate::core::plane::point::Point;
 
 /// A closed half-plane {x : normal·x ≥ offset}.
@@ -125,6 +125,47 @@ impl Arc {
     }
 }
 
+/// The exact cover of Lemma P3(3): every feasible x lies on the line p + w·d (a
+/// fixed-direction obstacle from a start point), and the line meets the disc B̄(c, R) in the
+/// interval w ∈ [w_c − h, w_c + h], w_c = d·(c − p), h = √(R² − dist(c, line)²). The two
+/// half-planes d·(x − p) ≥ w_c + h′ and d·(x − p) ≤ w_c − h′ with a rational h′ ≤ h (h itself when it
+/// is rational, else within 2⁻⁴⁰) hold every point of the line outside the disc. None: the line misses the open
+/// disc, and the anchor constrains nothing on it.
+pub fn line_sides(p: &Point, d: &Point, centre: &Point, radius: &Exact) -> Option<[HalfPlane; 2]> {
+    let rel = centre - p;
+    let w_c = d.dot(&rel);
+    // d is a unit vector: the squared distance from c to the line is |rel|² − w_c².
+    let inside = radius * radius - (rel.norm_squared() - &w_c * &w_c);
+    if inside <= Exact::ZERO {
+        return None;
+    }
+    // Exact when h is rational (a centre on the line: h = R), so that a start exactly on
+    // the threshold is seen there, as the guard sees it.
+    let h = rational_sqrt(&inside).unwrap_or_else(|| sqrt_below(&inside));
+    let base = d.dot(p);
+    Some([
+        HalfPlane {
+            normal: d.clone(),
+            offset: &base + &w_c + &h,
+        },
+        HalfPlane {
+            normal: -d,
+            offset: -(base + w_c - h),
+        },
+    ])
+}
+
+/// A rational h′ ≤ √v with √v − h′ < 2⁻⁴⁰ (v > 0): ⌊√⌊v·4⁴⁰⌋⌋ / 2⁴⁰.
+fn sqrt_below(v: &Exact) -> Exact {
+    use dashu_int::ops::SquareRoot;
+    let scale = dashu_int::UBig::ONE << 80;
+    let scaled = v * Exact::from(dashu_int::IBig::from(scale));
+    let floor = scaled.floor();
+    let n = dashu_int::UBig::try_from(floor).unwrap_or_default();
+    let root = n.sqrt();
+    Exact::from_parts(root.into(), dashu_int::UBig::ONE << 40)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -132,6 +173,36 @@ mod tests {
     /// Every point outside the disc lies in the cover of some quarter, at every refinement,
     /// and a point strictly inside the disc by more than the loss lies in none: the cover
     /// is sound (Lemma P3) and its loss bound is right.
+    /// The line's two sides hold every point of the line outside the disc and no point of
+    /// the line deeper inside than 2⁻⁴⁰; a line that misses the disc gets no sides.
+    #[test]
+    fn line_sides_cover_the_line_outside_the_disc() {
+        let p = Point::decimal(4.0, 1.0);
+        let d = RationalDirection::from_half_angle_tangent(&crate::core::num::exact_decimal(3.0))
+            .unit()
+            .clone();
+        let centre = Point::decimal(1.0, 2.0);
+        let radius = crate::core::num::exact_decimal(1.5);
+        let sides = line_sides(&p, &d, &centre, &radius).expect("the line meets the disc");
+        let mut outside = 0;
+        for i in -400..400 {
+            let w = crate::core::num::exact_decimal(f64::from(i) / 50.0);
+            let x = &p + &(&d * &w);
+            let rel = &x - &centre;
+            let covered = sides.iter().any(|h| h.contains(&x));
+            if rel.norm_squared() > &radius * &radius {
+                outside += 1;
+                assert!(covered, "uncovered outside point at w = {i}/50");
+            } else if rel.norm_squared() < (&radius - Exact::from(1) / Exact::from(1 << 20)).pow(2)
+            {
+                assert!(!covered, "covered inside point at w = {i}/50");
+            }
+        }
+        assert!(outside > 100);
+        let far = Point::decimal(1.0, 40.0);
+        assert!(line_sides(&far, &Point::decimal(1.0, 0.0), &centre, &radius).is_none());
+    }
+
     #[test]
     fn arcs_cover_the_outside_of_the_disc_and_no_more_than_the_loss() {
         let centre = Point::decimal(0.3, -0.7);

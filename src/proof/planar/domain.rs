@@ -19,7 +19,7 @@ use crate::core::planar::{DangerZone, PlanarObstacle, PlanarParams, Start};
 use crate::core::plane::point::Point;
 use crate::core::semantics::danger_distance;
 
-use super::cover::{Arc, HalfPlane};
+use super::cover::{Arc, HalfPlane, line_sides};
 use super::leaf::{Leaf, Travel};
 use super::trajectory::{BrakeTrajectory, DriveProfile};
 
@@ -59,6 +59,18 @@ pub struct Piece {
     pub to: Exact,
     /// The anchor, if any.
     pub anchor: Option<Anchor>,
+}
+
+/// Which convex set of a piece's cover a leaf is in (Lemma P3).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CoverPiece {
+    /// The piece has no anchor, or its sure-fire disc misses every feasible centre.
+    Whole,
+    /// One side of the disc along the line a fixed-direction obstacle from a point moves
+    /// on (P3(3), exact): 0 ahead along the direction, 1 behind.
+    Side(usize),
+    /// An arc of directions from the disc's centre (P3(2), refinable).
+    Arc(Arc),
 }
 
 /// Why an obstacle's pieces cannot be listed.
@@ -193,6 +205,23 @@ impl<'a> ObstacleDomain<'a> {
         })
     }
 
+    /// The cover sets a piece starts with: its anchor disc's two sides on a fixed
+    /// direction's line, four quarter arcs otherwise, the whole plane without an anchor.
+    pub fn initial_covers(&self, piece: &Piece) -> Vec<CoverPiece> {
+        let Some(anchor) = &piece.anchor else {
+            return vec![CoverPiece::Whole];
+        };
+        match (&self.obstacle.direction, &self.obstacle.start) {
+            (Some(d), Start::At(p)) => {
+                match line_sides(p, d.unit(), &anchor.centre, &anchor.radius) {
+                    Some(_) => vec![CoverPiece::Side(0), CoverPiece::Side(1)],
+                    None => vec![CoverPiece::Whole],
+                }
+            }
+            _ => Arc::quarters().into_iter().map(CoverPiece::Arc).collect(),
+        }
+    }
+
     /// s(t₂) − s(t₁) for the robot's motion on piece `index`: the chord loss of Lemma P4.
     pub fn arc_length_gain(&mut self, index: usize, t1: &Exact, t2: &Exact) -> Exact {
         let trajectory = BrakeTrajectory::new(&mut self.profile, self.pieces[index].brake);
@@ -201,8 +230,8 @@ impl<'a> ObstacleDomain<'a> {
     }
 
     /// The leaf of `piece` on the sub-interval [t1, t2] ⊆ [piece.from, piece.to], in the
-    /// cover set of `arc` (None: the piece has no anchor).
-    pub fn leaf(&mut self, piece: &Piece, t1: &Exact, t2: &Exact, arc: Option<&Arc>) -> Leaf {
+    /// cover set `cover` of its anchor.
+    pub fn leaf(&mut self, piece: &Piece, t1: &Exact, t2: &Exact, cover: &CoverPiece) -> Leaf {
         let dt = self.params.motion.dt.clone();
         let trajectory = BrakeTrajectory::new(&mut self.profile, piece.brake);
         let s1 = trajectory.state_at(&mut self.profile, t1).position;
@@ -229,9 +258,20 @@ impl<'a> ObstacleDomain<'a> {
         let (to_anchor, to_instant, cover) = match &piece.anchor {
             Some(a) => {
                 let at = Exact::from(a.instant) * &dt;
-                let cover: Vec<HalfPlane> = arc
-                    .map(|arc| arc.half_planes(&a.centre, &a.radius).to_vec())
-                    .unwrap_or_default();
+                let cover: Vec<HalfPlane> = match cover {
+                    CoverPiece::Whole => Vec::new(),
+                    CoverPiece::Arc(arc) => arc.half_planes(&a.centre, &a.radius).to_vec(),
+                    CoverPiece::Side(side) => {
+                        match (&self.obstacle.direction, &self.obstacle.start) {
+                            (Some(d), Start::At(p)) => {
+                                line_sides(p, d.unit(), &a.centre, &a.radius)
+                                    .map(|sides| vec![sides[*side].clone()])
+                                    .unwrap_or_default()
+                            }
+                            _ => Vec::new(),
+                        }
+                    }
+                };
                 (
                     travel(Exact::ZERO, at.clone()),
                     travel(t1 - &at, t2 - &at),
@@ -298,7 +338,19 @@ fn horizon(
     };
     let reach_front = max_dot(&u, &corners);
     let region_front = obstacle.region.as_ref().map(|q| max_dot(&u, q.vertices()));
-    let w = &obstacle.max_speed;
+    // How fast the obstacle can advance along u: W, or W·(u·d)⁺ along a fixed direction.
+    let w = match &obstacle.direction {
+        None => obstacle.max_speed.clone(),
+        Some(d) => {
+            let along = u.dot(d.unit());
+            if along > Exact::ZERO {
+                &obstacle.max_speed * &along
+            } else {
+                Exact::ZERO
+            }
+        }
+    };
+    let w = &w;
     let brake_time = &p.v_max / &p.b_min;
     for h in 0..=step_limit {
         let s = profile.start(h).clone();
@@ -308,7 +360,7 @@ fn horizon(
         let at = Exact::from(h) * &p.dt;
         let ahead = u.dot(&params.path.point_at(&s.position));
         // Braking at any T ≥ h or driving on: the robot is at least this far along u at
-        // every later instant, and the obstacle at most its start's front plus W·t.
+        // every later instant, and the obstacle at most its start's front plus w·t.
         let outrun = &ahead - &reach_front - w * &(&at + &brake_time) - radii;
         let outrun_ok = *w < p.v_max && outrun > *goal;
         let left = region_front

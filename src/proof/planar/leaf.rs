@@ -219,11 +219,15 @@ impl Leaf {
             }
         }
         for h in &self.cover {
-            nonneg.push(row(
+            // Strict: a guard that did not fire saw the centre strictly beyond its
+            // threshold (Lemma P1), and a cover set holds every such centre strictly.
+            let mut r = row(
                 "cover",
                 &[(X, -h.normal.x.clone()), (X + 1, -h.normal.y.clone())],
                 -h.offset.clone(),
-            ));
+            );
+            r.strict = true;
+            nonneg.push(r);
         }
         if let Some(q) = &self.region {
             for h in region_half_planes(q) {
