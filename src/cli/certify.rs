@@ -47,6 +47,7 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
         Input::Scene(scene) => {
             return scene_certify::run(&scene, &args.out, args.json, args.steps, out);
         }
+        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "certify")),
     };
     let analysis = analysis::analyse(&problem).context("analysis failed")?;
     let cert = if args.steps {

@@ -90,6 +90,7 @@ pub fn run(args: ExploreArgs, out: &mut Output) -> Result<Exit> {
     let input = input::problem_with_range_or_scene(&args.problem, &args.sets)?;
     let problem = match input {
         Input::Problem(problem) => problem,
+        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "explore")),
         Input::Scene(scene) => {
             if args.starts.is_some() {
                 anyhow::bail!(

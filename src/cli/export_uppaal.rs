@@ -49,6 +49,9 @@ pub fn run(args: ExportUppaalArgs, out: &mut Output) -> Result<Exit> {
     // A range of initial gaps stays a problem: its network starts from the explorer's starts.
     let problem = match input::problem_with_range_or_scene(&args.problem, &args.sets)? {
         Input::Problem(problem) => problem,
+        Input::Planar(_) => {
+            return Err(input::planar_unsupported(&args.problem, "export-uppaal"));
+        }
         Input::Scene(scene) => {
             if args.starts.is_some() {
                 anyhow::bail!(

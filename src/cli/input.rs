@@ -7,17 +7,31 @@ use std::path::Path;
 use anyhow::{Context, Result};
 
 use safereach::core::model::Problem;
+use safereach::core::planar::PlanarProblem;
 use safereach::core::scene::Scene;
 use safereach::core::text_file;
 use safereach::proof::certificate_file::CertificateFile;
 
 /// A file read as what it states: a single-obstacle problem (`[environment]`, read with all
-/// of today's checks, so it keeps today's answers and certificates) or a scene.
+/// of today's checks, so it keeps today's answers and certificates), a scene, or a planar
+/// problem (`[plane]`).
 pub enum Input {
     /// A single-obstacle problem file.
     Problem(Problem),
     /// A scene file (or a problem file whose overrides make it a scene, e.g. `robot.goal`).
     Scene(Scene),
+    /// A planar problem file (docs/semantics.md §13). No command reads it yet: each says so
+    /// (issue 36) until its planar engine lands.
+    #[allow(dead_code)]
+    Planar(PlanarProblem),
+}
+
+/// The error of a command that does not analyse planar problems yet, for the file `path`.
+pub fn planar_unsupported(path: &Path, command: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}: planar problems are not supported by `safereach {command}` yet (issue 36)",
+        path.display()
+    )
 }
 
 /// Reads `path` with `sets` as a problem if it is one (a problem with a range of initial
@@ -37,8 +51,14 @@ pub fn problem_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
 }
 
 /// As [`problem_or_scene`], but a problem with a range of initial gaps stays a problem
-/// (the explorer takes a finite set of starts in it).
+/// (the explorer takes a finite set of starts in it). A file with a top-level `[plane]`
+/// table is a planar problem, and only the planar reader's errors are reported for it.
 pub fn problem_with_range_or_scene(path: &Path, sets: &[String]) -> Result<Input> {
+    if planar_form(path) {
+        return Ok(Input::Planar(PlanarProblem::load_with_overrides(
+            path, sets,
+        )?));
+    }
     let problem_error = match Problem::load_with_overrides(path, sets) {
         Ok(p) => return Ok(Input::Problem(p)),
         Err(e) => e,
@@ -48,6 +68,12 @@ pub fn problem_with_range_or_scene(path: &Path, sets: &[String]) -> Result<Input
         Err(e) if scene_form(path) => Err(e.into()),
         Err(_) => Err(problem_error.into()),
     }
+}
+
+/// Whether the file at `path` is a planar problem file (a `plane` table at its top level).
+fn planar_form(path: &Path) -> bool {
+    text_file::read_text(path, text_file::MAX_PROBLEM_BYTES)
+        .is_ok_and(|text| PlanarProblem::is_planar(&text))
 }
 
 /// Whether the file at `path` has a `scene` or `obstacle` table at its top level.

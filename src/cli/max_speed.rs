@@ -52,6 +52,7 @@ pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
         Input::Problem(p) => p,
         Input::Scene(_) if args.region => anyhow::bail!(super::radius::NO_SCENE_REGION),
         Input::Scene(scene) => return scene_max_speed(&scene, &args, out),
+        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "max-speed")),
     };
     if args.obstacle.is_some() {
         anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");

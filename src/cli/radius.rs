@@ -60,6 +60,7 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
         Input::Problem(p) => p,
         Input::Scene(_) if args.region => anyhow::bail!(NO_SCENE_REGION),
         Input::Scene(scene) => return scene_radius(&scene, &args, &speeds, out),
+        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "radius")),
     };
     if args.obstacle.is_some() {
         anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");

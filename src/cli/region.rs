@@ -92,6 +92,7 @@ pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
     let map = match &input {
         Input::Problem(problem) => map_region(problem, &whole, &options, &on_decided),
         Input::Scene(scene) => map_scene_region(scene, &whole, &options, &on_decided),
+        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "region")),
     }
     .map_err(|e| anyhow::anyhow!("{}: {e}", args.problem.display()))?;
     bar.finish_and_clear();

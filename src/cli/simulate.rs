@@ -72,6 +72,7 @@ pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
     let horizon = match &input {
         Input::Problem(p) => simulate::horizon(&analysis::params_f64(&p.params::<Exact>())),
         Input::Scene(s) => safereach::core::scene::simulate::horizon(&s.params::<f64>()),
+        Input::Planar(_) => return Err(input::planar_unsupported(path, "simulate")),
     };
     let budget = Budget::new(Work::SimulatedPeriods, args.max_periods);
     simulate::runs_within(&budget, args.runs, horizon)
@@ -86,6 +87,7 @@ pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
             out,
         ),
         Input::Scene(scene) => scene_simulate::random(&scene, &args, out),
+        Input::Planar(_) => Err(input::planar_unsupported(path, "simulate")),
     }
 }
 
@@ -118,6 +120,7 @@ fn same_problem(problem: &Path, cert_path: &Path, cert: &CertificateFile) -> Res
     let given = match input::problem_or_scene(problem, &[])? {
         Input::Problem(p) => serde_json::to_value(&p)?,
         Input::Scene(s) => serde_json::to_value(&s)?,
+        Input::Planar(_) => return Err(input::planar_unsupported(problem, "simulate --replay")),
     };
     let certified = match cert {
         CertificateFile::Single(c) => serde_json::to_value(&c.problem)?,

@@ -9,7 +9,7 @@ use safereach::core::model::{Problem, ProblemError};
 use safereach::core::scene::{LaneChange, Obstacle, Position, Scene};
 
 use crate::common::paths::{root, seed_file};
-use crate::common::tmp;
+use crate::common::{edit, tmp};
 
 /// A valid scene using every key; the cases below break it one edit at a time. Line numbers
 /// matter: the cases point at them.
@@ -79,16 +79,6 @@ wrong_assumption_brake = true
 obstacle_speed = 0.15
 initial_gap = 10.0
 "#;
-
-/// `text` with each `(from, to)` applied once; every `from` must occur.
-fn edit(text: &str, edits: &[(&str, &str)]) -> String {
-    let mut text = text.to_string();
-    for (from, to) in edits {
-        assert!(text.contains(from), "`{from}` is not in the text");
-        text = text.replacen(from, to, 1);
-    }
-    text
-}
 
 fn sets(sets: &[&str]) -> Vec<String> {
     sets.iter().map(|s| s.to_string()).collect()

@@ -38,6 +38,10 @@ pub(crate) enum Kind {
     Lanes,
     /// An initial position: a number, or a range `[min, max]`.
     Position,
+    /// A point of the plane: `[x, y]` (planar problems).
+    Point,
+    /// A list of points: `[[x, y], ...]` (a path or a polygon).
+    Points,
 }
 
 impl Kind {
@@ -52,6 +56,8 @@ impl Kind {
             Kind::Lane => "a lane (a whole number)",
             Kind::Lanes => "a list of lanes (whole numbers), e.g. [0, 1]",
             Kind::Position => "a number or a range [min, max]",
+            Kind::Point => "a point [x, y]",
+            Kind::Points => "a list of points [[x, y], ...]",
         }
     }
 
@@ -70,6 +76,8 @@ impl Kind {
             Kind::Lane => reads::<i32>(&value),
             Kind::Lanes => reads::<Vec<i32>>(&value),
             Kind::Position => reads::<crate::core::model::Position>(&value),
+            Kind::Point => reads::<[f64; 2]>(&value),
+            Kind::Points => reads::<Vec<[f64; 2]>>(&value),
         };
         if ok {
             return Ok(());

@@ -61,6 +61,37 @@ fn unknown_key(origin: String, key: &str) -> ProblemError {
     }
 }
 
+/// The text of the problem, scene or planar file at `path`, and its name in errors.
+pub(crate) fn read_file(path: &Path) -> Result<(String, String), ProblemError> {
+    let origin = path.display().to_string();
+    let text = crate::core::text_file::read_text(path, crate::core::text_file::MAX_PROBLEM_BYTES)
+        .map_err(|source| ProblemError::Read {
+        origin: origin.clone(),
+        source,
+    })?;
+    Ok((text, origin))
+}
+
+/// Parsed `--set` overrides, and each one's dotted key with its `--set` origin.
+pub(crate) type Overrides<'s> = (Vec<Override<'s>>, Vec<(String, String)>);
+
+/// `sets` (each `dotted.key=value`) parsed against `resolve`, and each one's dotted key
+/// with its `--set` origin, for errors in the values they set.
+pub(crate) fn parse_overrides<'s>(
+    sets: &'s [String],
+    resolve: impl Fn(&str, &str) -> Result<Target, ProblemError> + Copy,
+) -> Result<Overrides<'s>, ProblemError> {
+    let overrides = sets
+        .iter()
+        .map(|s| Override::parse(s, resolve))
+        .collect::<Result<Vec<_>, _>>()?;
+    let origins = overrides
+        .iter()
+        .map(|o| (o.target.dotted.clone(), o.origin.clone()))
+        .collect();
+    Ok((overrides, origins))
+}
+
 impl Problem {
     /// Every key a problem file has, dotted (`robot.braking`), in file order.
     pub fn known_keys() -> impl Iterator<Item = &'static str> {
@@ -82,13 +113,7 @@ impl Problem {
     /// TOML value; strings may be bare: `controller.danger_rule=kinematic`) in order, then
     /// validates the result. Errors in an override name the override as their origin.
     pub fn load_with_overrides(path: &Path, sets: &[String]) -> Result<Problem, ProblemError> {
-        let origin = path.display().to_string();
-        let text =
-            crate::core::text_file::read_text(path, crate::core::text_file::MAX_PROBLEM_BYTES)
-                .map_err(|source| ProblemError::Read {
-                    origin: origin.clone(),
-                    source,
-                })?;
+        let (text, origin) = read_file(path)?;
         Self::from_toml_str_with_overrides(&text, &origin, sets)
     }
 
@@ -98,16 +123,9 @@ impl Problem {
         origin: &str,
         sets: &[String],
     ) -> Result<Problem, ProblemError> {
-        let overrides = sets
-            .iter()
-            .map(|s| Override::parse(s, resolve))
-            .collect::<Result<Vec<_>, _>>()?;
+        let (overrides, overridden) = parse_overrides(sets, resolve)?;
         let doc = DeTable::parse(text).map_err(|e| parse_error(origin, text, None, e))?;
         let mut root = doc.clone();
-        let overridden: Vec<(String, String)> = overrides
-            .iter()
-            .map(|o| (o.target.dotted.clone(), o.origin.clone()))
-            .collect();
         for o in overrides {
             o.apply(root.get_mut())?;
         }

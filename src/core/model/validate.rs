@@ -200,6 +200,24 @@ pub(crate) fn robot_controller_numbers(r: &Robot, c: &Controller) -> Vec<(&'stat
     numbers
 }
 
+/// The robot's and the controller's rules as a problem checks them: each key's own range
+/// in file order, the keys that tie together, and the motion's horizons (to reach top speed,
+/// to stop from it). A planar problem's motion is checked by exactly these.
+pub(crate) fn motion_violation(r: &Robot, c: &Controller) -> Option<Violation> {
+    let numbers = robot_controller_numbers(r, c);
+    KEYS.iter()
+        .filter(|s| s.key.starts_with("robot.") || s.key.starts_with("controller."))
+        .find_map(|spec| match spec.kind {
+            Kind::Count => latency_violation(spec, r.latency),
+            _ => numbers
+                .iter()
+                .filter(|(k, _)| *k == spec.key)
+                .find_map(|&(_, x)| number_violation(spec, x)),
+        })
+        .or_else(|| robot_violation(r))
+        .or_else(|| motion_horizon_violation(r))
+}
+
 /// `latency` above the cap [`MAX_LATENCY`] of `spec` (`robot.latency`).
 pub(crate) fn latency_violation(spec: &'static KeySpec, latency: u32) -> Option<Violation> {
     (latency > MAX_LATENCY).then(|| Violation {

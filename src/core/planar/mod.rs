@@ -2,8 +2,32 @@
 //! from any direction, Euclidean separation.
 //!
 //! The exact geometry they are decided with is [`crate::core::plane`]; this module holds the
-//! problem: its exact numbers ([`PlanarParams`]).
+//! problem: the file as read ([`PlanarProblem`], §13.10) and its exact numbers
+//! ([`PlanarParams`], [`PlanarProblem::params`]).
+//!
+//! # Planar problem files
+//!
+//! A file with a top-level `[plane]` table is a planar problem. [`PlanarProblem::load`],
+//! [`PlanarProblem::load_with_overrides`] and [`PlanarProblem::from_toml_str`] read it as
+//! strictly as a problem is read (the same machinery, the same [`ProblemError`]s naming the
+//! file or `--set`, the key, the reason and the line): its `[robot]` and `[controller]` are a
+//! problem's, validated by the same rules, plus the planar keys; an obstacle's key is named
+//! by index and name, `obstacle[1] ("car").region`, and set by index,
+//! `--set obstacle.1.max_speed=12`.
+//!
+//! [`ProblemError`]: crate::core::model::ProblemError
 
+mod exact;
+mod fields;
+mod file;
+pub(crate) mod keys;
 mod params;
+mod read;
+mod shape;
+mod validate;
 
+pub use exact::{AXIS_LENGTH, DEFAULT_DIRECTION_TOLERANCE};
+pub use file::{
+    PlanarObstacleFile, PlanarProblem, PlanarRobot, PlanarSensingFile, StartFile, Zone,
+};
 pub use params::{DangerZone, PlanarObstacle, PlanarParams, PlanarSensing, Start};

@@ -12,8 +12,7 @@ use crate::core::model::error::with_article;
 use crate::core::model::keys::KeySpec;
 use crate::core::scene::keys::{
     GOAL, LANE, LANE_CHANGE, LANE_CHANGE_PERIODS, LANE_CHANGE_REAR_GAP, LANES, MAX_SPEED, NAME,
-    OBSTACLE_KEYS, POSITION, SENSING_RANGE, STATIC, SceneKey, default_name, obstacle_keys,
-    obstacle_label,
+    OBSTACLE_KEYS, POSITION, SENSING_RANGE, STATIC, SceneKey, default_name, obstacle_label,
 };
 use crate::core::scene::origin::Source;
 use crate::core::scene::validate::lane_change_key_violation;
@@ -30,7 +29,7 @@ pub(crate) struct Extras {
 }
 
 /// The value at `key` (described by `spec`) read as a `T`; `shown` names it in errors.
-fn typed<T: DeserializeOwned>(
+pub(crate) fn typed<T: DeserializeOwned>(
     source: &Source<'_>,
     spec: &KeySpec,
     key: SceneKey,
@@ -175,6 +174,21 @@ pub(crate) fn obstacles(
     source: &Source<'_>,
     value: &Spanned<DeValue<'_>>,
 ) -> Result<Vec<Obstacle>, ProblemError> {
+    obstacle_tables(source, value, OBSTACLE_KEYS, |index, table, name| {
+        obstacle(source, index, table, name)
+    })
+}
+
+/// Each `[[obstacle]]` table of the `obstacle` value read by `read` (given its index, its
+/// table and its name), in the file's order: a table each, its name read first (every
+/// other error names the obstacle by it; default `obstacle-<index>`), then no key outside
+/// `keys`. Scenes and planar problems share it.
+pub(crate) fn obstacle_tables<T>(
+    source: &Source<'_>,
+    value: &Spanned<DeValue<'_>>,
+    keys: &[&'static KeySpec],
+    read: impl Fn(usize, &DeTable<'_>, String) -> Result<T, ProblemError>,
+) -> Result<Vec<T>, ProblemError> {
     let DeValue::Array(items) = value.get_ref() else {
         return Err(source.shape(
             SceneKey::Plain("obstacle"),
@@ -185,51 +199,49 @@ pub(crate) fn obstacles(
             ),
         ));
     };
-    items
-        .iter()
-        .enumerate()
-        .map(|(i, item)| obstacle(source, i, item))
-        .collect()
+    let known: Vec<&str> = keys.iter().map(|s| s.key).collect();
+    let mut out = Vec::with_capacity(items.len());
+    for (index, item) in items.iter().enumerate() {
+        let DeValue::Table(table) = item.get_ref() else {
+            return Err(ProblemError::Shape {
+                origin: source.origin.to_string(),
+                key: format!("obstacle[{index}]"),
+                reason: format!(
+                    "must be a table ([[obstacle]]), not {}",
+                    with_article(item.get_ref().type_str())
+                ),
+                location: source.location(item.span()),
+            });
+        };
+        let mut name = default_name(index);
+        if let Some(v) = table.get(NAME.key) {
+            let key = SceneKey::Obstacle(index, NAME.key);
+            name = typed(source, &NAME, key, &key.show(&name), v)?;
+        }
+        if let Some((key, _)) = table
+            .iter()
+            .find(|(k, _)| !known.contains(&k.get_ref().as_ref()))
+        {
+            return Err(ProblemError::Shape {
+                origin: source.origin.to_string(),
+                key: format!("{}.{}", obstacle_label(index, &name), key.get_ref()),
+                reason: format!("unknown key; an obstacle has {}", known.join(", ")),
+                location: source.location(key.span()),
+            });
+        }
+        out.push(read(index, table, name)?);
+    }
+    Ok(out)
 }
 
-/// The obstacle at `index`, from its table `item`.
+/// The scene obstacle at `index`, from its table (its name already read).
 fn obstacle(
     source: &Source<'_>,
     index: usize,
-    item: &Spanned<DeValue<'_>>,
+    table: &DeTable<'_>,
+    name: String,
 ) -> Result<Obstacle, ProblemError> {
-    let DeValue::Table(table) = item.get_ref() else {
-        return Err(ProblemError::Shape {
-            origin: source.origin.to_string(),
-            key: format!("obstacle[{index}]"),
-            reason: format!(
-                "must be a table ([[obstacle]]), not {}",
-                with_article(item.get_ref().type_str())
-            ),
-            location: source.location(item.span()),
-        });
-    };
-    // The name first: every other error names the obstacle by it.
-    let mut name = default_name(index);
-    if let Some(v) = table.get(NAME.key) {
-        let key = SceneKey::Obstacle(index, NAME.key);
-        name = typed(source, &NAME, key, &key.show(&name), v)?;
-    }
     let shown = |field: &'static str| SceneKey::Obstacle(index, field).show(&name);
-    if let Some((key, _)) = table
-        .iter()
-        .find(|(k, _)| !OBSTACLE_KEYS.iter().any(|s| s.key == k.get_ref().as_ref()))
-    {
-        return Err(ProblemError::Shape {
-            origin: source.origin.to_string(),
-            key: format!("{}.{}", obstacle_label(index, &name), key.get_ref()),
-            reason: format!(
-                "unknown key; an obstacle has {}",
-                obstacle_keys().join(", ")
-            ),
-            location: source.location(key.span()),
-        });
-    }
     let required = |spec: &'static KeySpec, what: &str| match table.get(spec.key) {
         Some(v) => Ok(v),
         None => Err(source.shape(

@@ -92,6 +92,15 @@ impl SceneKey {
         }
     }
 
+    /// The key as messages name it, `name_of` giving obstacle `i`'s name (None: past the
+    /// last obstacle, named by its default name).
+    pub(crate) fn show_in(self, name_of: impl Fn(usize) -> Option<String>) -> String {
+        match self {
+            SceneKey::Obstacle(i, _) => self.show(&name_of(i).unwrap_or_else(|| default_name(i))),
+            SceneKey::Plain(_) => self.show(""),
+        }
+    }
+
     /// The key as messages name it; `name` is the obstacle's name, for an obstacle's key.
     pub(crate) fn show(self, name: &str) -> String {
         match self {
@@ -122,6 +131,7 @@ pub(crate) fn keys_of(table: &str) -> Vec<&'static str> {
 }
 
 /// The keys of an obstacle table.
+#[cfg(test)]
 pub(crate) fn obstacle_keys() -> Vec<&'static str> {
     OBSTACLE_KEYS.iter().map(|s| s.key).collect()
 }
@@ -129,13 +139,31 @@ pub(crate) fn obstacle_keys() -> Vec<&'static str> {
 /// Where a `--set` of a scene's `key` goes (`obstacle.<index>.<key>` for an obstacle's), or
 /// the error for a key no scene has.
 pub(crate) fn resolve(key: &str, origin: &str) -> Result<Target, ProblemError> {
-    if let Some(spec) = KEYS
-        .iter()
-        .chain(SCENE_KEYS.iter().copied())
-        .find(|s| s.key == key)
-    {
+    let plain: Vec<&'static KeySpec> = KEYS.iter().chain(SCENE_KEYS.iter().copied()).collect();
+    resolve_in(key, origin, &plain, SCENE_TABLES, OBSTACLE_KEYS)
+}
+
+/// Where a `--set` of `key` goes in a file whose keys outside the obstacles are `plain`, in
+/// the tables `tables`, and whose `[[obstacle]]` tables have the keys `obstacle`; or the
+/// error naming the keys the file does have. Scenes and planar problems share it.
+pub(crate) fn resolve_in(
+    key: &str,
+    origin: &str,
+    plain: &[&'static KeySpec],
+    tables: &[&str],
+    obstacle: &[&'static KeySpec],
+) -> Result<Target, ProblemError> {
+    if let Some(spec) = plain.iter().find(|s| s.key == key) {
         return Ok(Target::plain(spec));
     }
+    let keys_of = |table: &str| -> Vec<&'static str> {
+        let prefix = format!("{table}.");
+        plain
+            .iter()
+            .filter_map(|s| s.key.strip_prefix(prefix.as_str()))
+            .collect()
+    };
+    let obstacle_keys: Vec<&str> = obstacle.iter().map(|s| s.key).collect();
     let bad = |reason: String| ProblemError::BadOverride {
         origin: origin.to_string(),
         key: Some(key.to_string()),
@@ -145,7 +173,7 @@ pub(crate) fn resolve(key: &str, origin: &str) -> Result<Target, ProblemError> {
         format!(
             "set one key of one obstacle: obstacle.<index>.<key>, the index counting [[obstacle]] \
              tables from 0 and the key one of {}",
-            obstacle_keys().join(", ")
+            obstacle_keys.join(", ")
         )
     };
     if key == "obstacle" || key.starts_with("obstacle.") {
@@ -159,12 +187,12 @@ pub(crate) fn resolve(key: &str, origin: &str) -> Result<Target, ProblemError> {
                 one_key()
             )));
         };
-        let Some(spec) = OBSTACLE_KEYS.iter().find(|s| s.key == field) else {
+        let Some(spec) = obstacle.iter().find(|s| s.key == field) else {
             return Err(ProblemError::UnknownKey {
                 origin: origin.to_string(),
                 key: key.to_string(),
                 table: Some("[obstacle]".into()),
-                known: obstacle_keys().iter().map(|k| k.to_string()).collect(),
+                known: obstacle_keys.iter().map(|k| k.to_string()).collect(),
             });
         };
         return Ok(Target {
@@ -173,7 +201,7 @@ pub(crate) fn resolve(key: &str, origin: &str) -> Result<Target, ProblemError> {
             path: SceneKey::Obstacle(index, spec.key).path(),
         });
     }
-    if SCENE_TABLES.contains(&key) {
+    if tables.contains(&key) {
         return Err(bad(format!(
             "`{key}` is a table; set one of its keys: {}",
             keys_of(key)
@@ -184,16 +212,17 @@ pub(crate) fn resolve(key: &str, origin: &str) -> Result<Target, ProblemError> {
         )));
     }
     let (table, known) = match key.split_once('.') {
-        Some((table, _)) if SCENE_TABLES.contains(&table) => (
+        Some((table, _)) if tables.contains(&table) => (
             Some(table.to_string()),
             keys_of(table).iter().map(|k| k.to_string()).collect(),
         ),
         _ => (
             None,
-            KEYS.iter()
+            plain
+                .iter()
                 .filter(|s| !s.key.contains('.'))
                 .map(|s| s.key.to_string())
-                .chain(SCENE_TABLES.iter().map(|t| format!("{t}.*")))
+                .chain(tables.iter().map(|t| format!("{t}.*")))
                 .chain(["obstacle.<index>.*".to_string()])
                 .collect(),
         ),

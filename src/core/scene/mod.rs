@@ -54,12 +54,12 @@
 //! function (guards in [`guards`], lanes in [`lateral`], per-obstacle safety in
 //! [`safety`]), and [`simulate`] runs, replays and traces it.
 
-mod fields;
+pub(crate) mod fields;
 pub(crate) mod keys;
-mod origin;
+pub(crate) mod origin;
 mod read;
-mod shape;
-mod validate;
+pub(crate) mod shape;
+pub(crate) mod validate;
 mod write;
 
 use serde::{Deserialize, Serialize};

@@ -9,8 +9,10 @@ use serde::Deserialize;
 use toml::de::DeTable;
 
 use crate::core::model::document::parse_error;
-use crate::core::model::overrides::{Override, PathStep};
-use crate::core::model::read::{check_key_types, problem_from_document};
+use crate::core::model::overrides::PathStep;
+use crate::core::model::read::{
+    check_key_types, parse_overrides, problem_from_document, read_file,
+};
 use crate::core::model::{Controller, ProblemError, Robot, Sensing};
 use crate::core::scene::Scene;
 use crate::core::scene::fields::{Extras, lanes, obstacles, take_extras};
@@ -47,13 +49,7 @@ impl Scene {
     /// `scene.lanes=[0,1]`) and an obstacle's, by its 0-based index
     /// (`obstacle.1.max_speed=0.2`). Errors in an override name the override as their origin.
     pub fn load_with_overrides(path: &Path, sets: &[String]) -> Result<Scene, ProblemError> {
-        let origin = path.display().to_string();
-        let text =
-            crate::core::text_file::read_text(path, crate::core::text_file::MAX_PROBLEM_BYTES)
-                .map_err(|source| ProblemError::Read {
-                    origin: origin.clone(),
-                    source,
-                })?;
+        let (text, origin) = read_file(path)?;
         Self::from_toml_str_with_overrides(&text, &origin, sets)
     }
 
@@ -63,16 +59,9 @@ impl Scene {
         origin: &str,
         sets: &[String],
     ) -> Result<Scene, ProblemError> {
-        let overrides = sets
-            .iter()
-            .map(|s| Override::parse(s, resolve))
-            .collect::<Result<Vec<_>, _>>()?;
+        let (overrides, sets) = parse_overrides(sets, resolve)?;
         let doc = DeTable::parse(text).map_err(|e| parse_error(origin, text, None, e))?;
         let doc = doc.get_ref();
-        let sets: Vec<(String, String)> = overrides
-            .iter()
-            .map(|o| (o.target.dotted.clone(), o.origin.clone()))
-            .collect();
         let source = Source {
             text,
             origin,

@@ -59,12 +59,7 @@ pub(crate) fn check(source: &Source<'_>, root: &DeTable<'_>) -> Result<Form, Pro
     if environment {
         return Ok(Form::Problem);
     }
-    let no_obstacle = match root.get("obstacle").map(|v| v.get_ref()) {
-        None => true,
-        Some(DeValue::Array(items)) => items.is_empty(),
-        Some(_) => false,
-    };
-    if no_obstacle {
+    if !has_obstacles(root) {
         return Err(ProblemError::Shape {
             origin: source.origin.to_string(),
             key: "obstacle".into(),
@@ -75,6 +70,16 @@ pub(crate) fn check(source: &Source<'_>, root: &DeTable<'_>) -> Result<Form, Pro
         });
     }
     Ok(Form::Scene)
+}
+
+/// Whether `root` has an `obstacle` value other than an empty array (a value that is not an
+/// array of tables is the obstacle reader's error).
+pub(crate) fn has_obstacles(root: &DeTable<'_>) -> bool {
+    match root.get("obstacle").map(|v| v.get_ref()) {
+        None => false,
+        Some(DeValue::Array(items)) => !items.is_empty(),
+        Some(_) => true,
+    }
 }
 
 /// The first key outside the obstacles that a scene file does not have.

@@ -13,7 +13,7 @@ use crate::core::model::validate::{
 use crate::core::model::{ProblemError, error::show_count};
 use crate::core::scene::keys::{
     GOAL, LANE_CHANGE, LANE_CHANGE_PERIODS, LANE_CHANGE_REAR_GAP, LANES, MAX_LANE, MAX_SPEED,
-    POSITION, SENSING_RANGE, SceneKey, default_name,
+    POSITION, SENSING_RANGE, SceneKey,
 };
 use crate::core::scene::{LaneChange, Position, Scene};
 
@@ -45,6 +45,29 @@ impl SceneViolation {
             reason: v.reason,
         }
     }
+}
+
+/// Obstacle `index`'s name `name` when it is empty or the same as one of the `earlier`
+/// obstacles' (in file order). Scenes and planar problems share it.
+pub(crate) fn obstacle_name_violation<'a>(
+    index: usize,
+    name: &str,
+    mut earlier: impl Iterator<Item = &'a str>,
+) -> Option<SceneViolation> {
+    let reason = if name.trim().is_empty() {
+        "must not be empty".to_string()
+    } else {
+        let j = earlier.position(|p| p == name)?;
+        format!(
+            "obstacle[{j}] has the same name; names must be unique (trace obstacle ids are \
+             matched to them)"
+        )
+    };
+    Some(SceneViolation {
+        key: SceneKey::Obstacle(index, "name"),
+        value: format!("{name:?}"),
+        reason,
+    })
 }
 
 /// An initial position as shown in messages: `10` or `[8, 12]`.
@@ -102,15 +125,7 @@ impl Scene {
 
     /// `key` as messages name it (with the obstacle's name for an obstacle's key).
     pub(crate) fn show_key(&self, key: SceneKey) -> String {
-        match key {
-            SceneKey::Obstacle(i, _) => key.show(
-                &self
-                    .obstacles
-                    .get(i)
-                    .map_or_else(|| default_name(i), |o| o.name.clone()),
-            ),
-            SceneKey::Plain(_) => key.show(""),
-        }
+        key.show_in(|i| self.obstacles.get(i).map(|o| o.name.clone()))
     }
 
     /// The first rule of the model the scene breaks: each key's own range in file order,
@@ -209,18 +224,9 @@ impl Scene {
                 reason,
             })
         };
-        if o.name.trim().is_empty() {
-            return at("name", format!("{:?}", o.name), "must not be empty".into());
-        }
-        if let Some(j) = self.obstacles[..i].iter().position(|p| p.name == o.name) {
-            return at(
-                "name",
-                format!("{:?}", o.name),
-                format!(
-                    "obstacle[{j}] has the same name; names must be unique (trace obstacle ids \
-                     are matched to them)"
-                ),
-            );
+        let earlier = self.obstacles[..i].iter().map(|p| p.name.as_str());
+        if let Some(v) = obstacle_name_violation(i, &o.name, earlier) {
+            return Some(v);
         }
         if !self.lanes.contains(&o.lane) {
             return at(

@@ -11,6 +11,11 @@ pub const PROBLEM: &str = include_str!("problem.toml");
 /// out. Certified as written.
 pub const SCENE: &str = include_str!("scene.toml");
 
+/// A planar problem (docs/semantics.md §13): a 0.3 m robot at 1 m/s on a 12 m path, one
+/// pedestrian crossing ahead of it on a zebra crossing, range, field of view and occlusion
+/// set, noise commented out. Reads as a planar problem ([`crate::core::planar`]).
+pub const PLANAR: &str = include_str!("planar.toml");
+
 /// `template` with every commented key line (`# key = value  # ...`) made a key line; with
 /// `defaults_only`, only the lines marked `(default)`, which change nothing. The table
 /// header `# [sensing]` is uncommented with them.
@@ -116,6 +121,34 @@ mod tests {
         let defaults = Scene::from_toml_str(&uncommented(SCENE, true), "defaults").unwrap();
         assert_eq!(scene.params::<f64>(), defaults.params::<f64>());
         Scene::from_toml_str(&uncommented(SCENE, false), "every key").unwrap();
+    }
+
+    #[test]
+    fn the_planar_template_states_every_key_and_reads() {
+        use crate::core::planar::PlanarProblem;
+        use crate::core::planar::keys::{OBSTACLE_KEYS, plain_keys};
+        // start_min, start_max and stop_polygon are alternatives to keys the template sets
+        // (a start point, the disc zone): its prose gives them, not a key line.
+        let alternatives = ["start_min", "start_max", "controller.stop_polygon"];
+        let head = plain_keys().into_iter().map(|s| ("", s));
+        let obstacle = OBSTACLE_KEYS.iter().map(|s| ("obstacle", *s));
+        let keys = head
+            .chain(obstacle)
+            .filter(|(_, s)| !alternatives.contains(&s.key));
+        states_every_key(PLANAR, keys);
+        for key in alternatives {
+            let bare = key.rsplit('.').next().unwrap();
+            assert!(PLANAR.contains(&format!("{bare} = [")), "{key}");
+        }
+        let planar = PlanarProblem::from_toml_str(PLANAR, "planar template").unwrap();
+        let defaults = uncommented(PLANAR, true);
+        let defaults = PlanarProblem::from_toml_str(&defaults, "defaults").unwrap();
+        assert_eq!(planar.params(), defaults.params());
+        assert_ne!(
+            uncommented(PLANAR, true),
+            PLANAR,
+            "some default line is uncommented"
+        );
     }
 
     #[test]

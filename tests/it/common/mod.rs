@@ -21,6 +21,16 @@ pub mod split_mix;
 
 use tempfile::TempDir;
 
+/// `text` with each `(from, to)` applied once; every `from` must occur.
+pub fn edit(text: &str, edits: &[(&str, &str)]) -> String {
+    let mut text = text.to_string();
+    for (from, to) in edits {
+        assert!(text.contains(from), "`{from}` is not in the text");
+        text = text.replacen(from, to, 1);
+    }
+    text
+}
+
 /// A fresh temporary directory, removed when dropped.
 pub fn tmp() -> TempDir {
     tempfile::tempdir().expect("a temporary directory")
