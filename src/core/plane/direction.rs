@@ -104,7 +104,7 @@ impl RationalDirection {
 }
 
 /// The rational square root of `r`, if it has one.
-pub(super) fn rational_sqrt(r: &Exact) -> Option<Exact> {
+pub(crate) fn rational_sqrt(r: &Exact) -> Option<Exact> {
     if *r < Exact::ZERO {
         return None;
     }
