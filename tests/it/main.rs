@@ -34,6 +34,7 @@ mod monitor_scene;
 mod noise;
 mod pinning;
 mod planar_bound;
+mod planar_oracle;
 mod planar_replay;
 mod plane_geometry;
 mod plane_path;
