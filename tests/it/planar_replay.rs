@@ -332,3 +332,57 @@ fn behaviours_outside_the_bounds_are_refused() {
         })
     );
 }
+
+/// Whether the guard fires at step 0 for a static obstacle at `at` (robot at rest at the
+/// origin heading +x, latency 0, the `area` rule with ρ = 5: any seen obstacle within 5 m).
+fn fires_at_once(params: &PlanarParams, at: Point) -> bool {
+    let mut params = params.clone();
+    params.obstacles[0].start = safereach::core::planar::Start::At(at.clone());
+    let out = run(&params, &one_obstacle(&params, at, Vec::new()), 1).expect("replays");
+    out.brake.is_some_and(|b| b.step == 0)
+}
+
+fn at_rest_area_robot() -> PlanarParams {
+    let line = line_problem(
+        "max_speed = 1.0\nacceleration = 1.0\nbraking = 1.0\ncontrol_period = 0.25\nlatency = 0\nclearance = 0.0",
+        "assumed_obstacle_speed = 0.0\nreaction_radius = 5.0\ndanger_rule = \"area\"\nbuffer = 0.0\nwrong_assumption_brake = false",
+    );
+    let mut params = embed(&line);
+    params.obstacles[0].max_speed = Exact::ZERO;
+    params
+}
+
+/// The field of view, exactly at its sign cases: cos(θ/2) = 4/5 (a narrow view) sees
+/// (1, 0.5) (26.6°) and not (1, 1) (45°); cos = −3/5 (a view of 253.7°) sees (−1, 2)
+/// (116.6°) and not (−1, 1) (135°); (4, 3) lies on the 4/5 cone's edge and is seen.
+#[test]
+fn the_field_of_view_is_decided_exactly() {
+    let mut params = at_rest_area_robot();
+    params.sensing.view_cos_half = Some(decimal(0.8));
+    assert!(fires_at_once(&params, point(1.0, 0.5)));
+    assert!(!fires_at_once(&params, point(1.0, 1.0)));
+    assert!(fires_at_once(&params, point(4.0, 3.0)));
+    assert!(!fires_at_once(&params, point(-1.0, 0.1)));
+    params.sensing.view_cos_half = Some(decimal(-0.6));
+    assert!(fires_at_once(&params, point(-1.0, 2.0)));
+    assert!(!fires_at_once(&params, point(-1.0, 1.0)));
+    assert!(fires_at_once(&params, point(1.0, -1.0)));
+}
+
+/// The polygon zone in the robot's frame (x ahead, y to the left): the asymmetric stop
+/// rectangle [0, 1] × [−0.1, 0.5] meets an obstacle disc of radius 0.1 at (0.5, 0.55) and
+/// not its mirror image (0.5, −0.55), 0.45 m off.
+#[test]
+fn the_polygon_zone_reads_the_robots_frame() {
+    use safereach::core::planar::DangerZone;
+    use safereach::core::plane::polygon::ConvexPolygon;
+    let mut params = at_rest_area_robot();
+    params.obstacles[0].radius = decimal(0.1);
+    let corners = [(0.0, -0.1), (1.0, -0.1), (1.0, 0.5), (0.0, 0.5)];
+    let zone = ConvexPolygon::new(corners.iter().map(|&(x, y)| point(x, y)).collect());
+    params.zone = DangerZone::Polygon(zone.expect("a rectangle"));
+    assert!(fires_at_once(&params, point(0.5, 0.55)));
+    assert!(fires_at_once(&params, point(1.1, 0.0)));
+    assert!(!fires_at_once(&params, point(0.5, -0.55)));
+    assert!(!fires_at_once(&params, point(1.2, 0.0)));
+}
