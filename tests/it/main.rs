@@ -35,6 +35,8 @@ mod noise;
 mod pinning;
 mod planar_bound;
 mod planar_input;
+mod planar_oracle;
+mod planar_replay;
 mod plane_geometry;
 mod plane_path;
 mod polynomial;

@@ -3,7 +3,10 @@
 //!
 //! The exact geometry they are decided with is [`crate::core::plane`]; this module holds the
 //! problem: the file as read ([`PlanarProblem`], §13.10) and its exact numbers
-//! ([`PlanarParams`], [`PlanarProblem::params`]).
+//! ([`PlanarParams`], [`PlanarProblem::params`]); one concrete adversary choice
+//! ([`PlanarBehaviour`]) and its exact replay ([`run`], [`PlanarReplay`], §13.11): guards,
+//! motion along the path, and each obstacle's least separation inside steps as an exact
+//! bracket.
 //!
 //! # Planar problem files
 //!
@@ -17,17 +20,28 @@
 //!
 //! [`ProblemError`]: crate::core::model::ProblemError
 
+mod behaviour;
 mod exact;
 mod fields;
 mod file;
 pub(crate) mod keys;
+mod observe;
 mod params;
+mod phases;
+mod pieces;
 mod read;
+mod replay;
+mod separation;
 mod shape;
 mod validate;
 
+pub use behaviour::{BehaviourError, ObstacleBehaviour, PlanarBehaviour};
 pub use exact::{AXIS_LENGTH, DEFAULT_DIRECTION_TOLERANCE};
 pub use file::{
     PlanarObstacleFile, PlanarProblem, PlanarRobot, PlanarSensingFile, StartFile, Zone,
 };
 pub use params::{DangerZone, PlanarObstacle, PlanarParams, PlanarSensing, Start};
+pub use phases::{Phase, motion_phases};
+pub use pieces::{PathPiece, path_pieces};
+pub use replay::{BrakeEvent, PlanarGuard, PlanarReplay, PlanarRun, StepChoice, run};
+pub use separation::Separation;

@@ -15,6 +15,7 @@ pub mod line_in_plane;
 pub mod map_points;
 pub mod monitoring;
 pub mod paths;
+pub mod planar_oracle;
 pub mod rational_draws;
 pub mod spec;
 pub mod split_mix;

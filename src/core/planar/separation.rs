@@ -1,0 +1,287 @@
+//! One obstacle's separation over a run's moving instants (docs/semantics.md §13.5): the
+//! squared centre distance D(τ) on each piece of each period, an exact bracket on its
+//! minimum, and the exact collision decision ([`Track`]).
+//!
+//! **Why the bracket is sound.** On a [`PathPiece::On`] piece the robot's centre is
+//! P + u·(s(τ) − A) (segment start P, rational unit direction u, arc start A) and the
+//! obstacle's x + w·τ, so D(τ) is a polynomial of degree ≤ 4 with rational coefficients,
+//! and [`Polynomial::minimum_on`] brackets its minimum exactly. On a
+//! [`PathPiece::Straddle`] [c_lo, c_hi] (a surd vertex crossing) the robot is, at each
+//! instant, on one of the listed segments, and D(τ) there equals that segment's polynomial
+//! D_j(τ) (each extended over the whole interval). So D ≥ min_j min_{[c_lo, c_hi]} D_j, and
+//! each D_j is bounded below by its Taylor form about the interval's centre t with radius ρ:
+//! D_j(t + ρσ) = Σ d_k σ^k ≥ d₀ − Σ_{k≥1} |d_k| for σ ∈ [−1, 1]. No upper value is needed
+//! there: c_lo and c_hi end the neighbouring pieces, whose attained values bound the minimum
+//! from above, and because c_R is continuous at the vertex those values differ from D at
+//! the crossing by at most max|D′|·2⁻⁶⁰. The moving instants of a period that ends at rest
+//! τ_r are [0, τ_r); the infimum over them is the minimum over [0, τ_r] (continuity), which
+//! is what the bracket bounds; only the collision decision tells the open end apart.
+//!
+//! Separations are σ = √D − r (r = r_R + r_i); the square root of each end of the bracket
+//! is taken outwards in rationals (exactly when D is a rational square).
+
+use dashu_int::ops::{Abs, SquareRoot, UnsignedAbs};
+
+use crate::core::num::Exact;
+use crate::core::plane::direction::rational_sqrt;
+use crate::core::plane::point::Point;
+use crate::core::plane::rational_path::RationalPath;
+use crate::core::polynomial::Polynomial;
+
+use super::pieces::PathPiece;
+
+/// An exact bracket on one obstacle's least separation over a run's moving instants.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Separation {
+    /// Every moving instant's separation is ≥ this.
+    pub lower: Exact,
+    /// Some instant near `at` separates by at most this (≥ `lower`).
+    pub upper: Exact,
+    /// The closest instant (s since t = 0): D there is the bracket's upper end, or, when the
+    /// minimum is contact (D = 0 at an irrational instant), a point within 2⁻⁹⁰ s of it.
+    pub at: Exact,
+}
+
+/// How narrow D's bracket is made on each piece (m²).
+fn width() -> Exact {
+    Exact::ONE / Exact::from(2u128.pow(90))
+}
+
+/// One stored piece of D, for the collision decision.
+#[derive(Clone, Debug)]
+enum Stored {
+    Exact {
+        from: Exact,
+        to: Exact,
+        d: Polynomial,
+        open_end: bool,
+    },
+    Bounded {
+        lower: Exact,
+    },
+}
+
+/// One obstacle's separation as the replay goes.
+#[derive(Clone, Debug)]
+pub struct Track {
+    radii: Exact,
+    lower: Option<Exact>,
+    upper: Option<(Exact, Exact)>,
+    stored: Vec<Stored>,
+}
+
+impl Track {
+    /// An empty track for radii sum r = r_R + r_i.
+    pub fn new(radii: Exact) -> Self {
+        Track {
+            radii,
+            lower: None,
+            upper: None,
+            stored: Vec::new(),
+        }
+    }
+
+    /// Adds one period's pieces: the period starts at `t0`, the obstacle is at `x` then and
+    /// moves at `w`. Returns whether D ≤ `fall` somewhere on them (the occlusion test; a
+    /// straddle whose bound reaches it counts, which only shows the obstacle earlier).
+    pub fn add_period(
+        &mut self,
+        path: &RationalPath,
+        pieces: &[PathPiece],
+        t0: &Exact,
+        x: &Point,
+        w: &Point,
+        fall: Option<&Exact>,
+    ) -> bool {
+        let mut fell = false;
+        for piece in pieces {
+            match piece {
+                PathPiece::On {
+                    from,
+                    to,
+                    segment,
+                    arc,
+                    rests_at_end,
+                } => {
+                    let d = squared_distance(path, *segment, arc, x, w);
+                    fell |= fall.is_some_and(|c| d.min_at_most(c, from, to));
+                    self.bracket(&d, from, to, t0);
+                    self.stored.push(Stored::Exact {
+                        from: from.clone(),
+                        to: to.clone(),
+                        d,
+                        open_end: *rests_at_end,
+                    });
+                }
+                PathPiece::Straddle {
+                    from,
+                    to,
+                    segments,
+                    arc,
+                } => {
+                    let lower = (segments.0..=segments.1)
+                        .map(|j| taylor_lower(&squared_distance(path, j, arc, x, w), from, to))
+                        .min()
+                        .expect("at least one segment");
+                    let lower = lower.max(Exact::ZERO);
+                    fell |= fall.is_some_and(|c| lower <= *c);
+                    self.lower_to(&lower);
+                    self.stored.push(Stored::Bounded { lower });
+                }
+            }
+        }
+        fell
+    }
+
+    fn lower_to(&mut self, value: &Exact) {
+        if self.lower.as_ref().is_none_or(|l| value < l) {
+            self.lower = Some(value.clone());
+        }
+    }
+
+    fn upper_to(&mut self, value: &Exact, at: Exact) {
+        if self.upper.as_ref().is_none_or(|(u, _)| value < u) {
+            self.upper = Some((value.clone(), at));
+        }
+    }
+
+    /// Brackets D's minimum on [from, to] into the track, skipping the work when a cheap
+    /// bound shows the piece cannot hold the minimum (its Taylor bound is at least the best
+    /// attained value, so it changes neither end of the final bracket).
+    fn bracket(&mut self, d: &Polynomial, from: &Exact, to: &Exact, t0: &Exact) {
+        if let Some((best, _)) = &self.upper
+            && taylor_lower(d, from, to) >= *best
+        {
+            return;
+        }
+        let m = d.minimum_on(from, to, &width());
+        if m.lower <= Exact::ZERO && d.min_at_most(&Exact::ZERO, from, to) {
+            // Contact: D ≥ 0 is a sum of squares, so its minimum is exactly 0.
+            let at = if d.eval(from).is_zero() {
+                from.clone()
+            } else {
+                let roots = d.isolate_roots(from, to, &width());
+                let (lo, hi) = roots.first().expect("a root, by min_at_most");
+                (lo + hi) / Exact::from(2)
+            };
+            self.lower_to(&Exact::ZERO);
+            self.upper_to(&Exact::ZERO, t0 + at);
+            return;
+        }
+        self.lower_to(&m.lower.max(Exact::ZERO));
+        self.upper_to(&m.upper, t0 + m.at);
+    }
+
+    /// The bracket so far (None: no moving instant yet).
+    pub fn separation(&self) -> Option<Separation> {
+        let lower = self.lower.as_ref()?;
+        let (upper, at) = self.upper.as_ref()?;
+        Some(Separation {
+            lower: sqrt_bounds(lower).0 - &self.radii,
+            upper: sqrt_bounds(upper).1 - &self.radii,
+            at: at.clone(),
+        })
+    }
+
+    /// Whether some moving instant separates by ≤ `clearance`: decided exactly on every
+    /// piece of a rational crossing (Sturm, [`Polynomial::min_at_most`]; at an end where the
+    /// robot rests the instant itself does not count), and None only when the answer rests
+    /// on a surd crossing's bound alone.
+    pub fn collides(&self, clearance: &Exact) -> Option<bool> {
+        let reach = clearance + &self.radii;
+        if reach < Exact::ZERO {
+            return Some(false); // σ ≥ −r always
+        }
+        if let Some(s) = self.separation() {
+            if s.lower > *clearance {
+                return Some(false);
+            }
+            if s.upper < *clearance {
+                return Some(true);
+            }
+        }
+        let c = &reach * &reach;
+        let mut unsure = false;
+        for piece in &self.stored {
+            match piece {
+                Stored::Exact {
+                    from,
+                    to,
+                    d,
+                    open_end,
+                } => {
+                    if reaches(d, &c, from, to, *open_end) {
+                        return Some(true);
+                    }
+                }
+                Stored::Bounded { lower } => unsure |= *lower <= c,
+            }
+        }
+        (!unsure).then_some(false)
+    }
+}
+
+/// Whether d(τ) ≤ c at some τ of [from, to], or of [from, to) when `open_end`.
+fn reaches(d: &Polynomial, c: &Exact, from: &Exact, to: &Exact, open_end: bool) -> bool {
+    if !open_end {
+        return d.min_at_most(c, from, to);
+    }
+    if d.min_below(c, from, to) {
+        return true; // d < c at a point, hence on a neighbourhood, hence before `to`
+    }
+    // Now d ≥ c on [from, to]: does d touch c before `to`?
+    let f = d - &Polynomial::constant(c.clone());
+    if f.is_zero() || f.eval(from).is_zero() {
+        return true;
+    }
+    let at_end = usize::from(f.eval(to).is_zero());
+    f.count_distinct_roots(from, to) > at_end
+}
+
+/// D(τ) = ‖c_R(τ) − c_i(τ)‖² with the robot on `segment` at arc length `arc(τ)` and the
+/// obstacle at x + w·τ.
+fn squared_distance(
+    path: &RationalPath,
+    segment: usize,
+    arc: &Polynomial,
+    x: &Point,
+    w: &Point,
+) -> Polynomial {
+    let seg = &path.segments()[segment];
+    let u = seg.direction.unit();
+    let along = arc - &Polynomial::constant(seg.arc_start.clone());
+    let coordinate = |start: &Exact, dir: &Exact, at: &Exact, speed: &Exact| {
+        let robot = &Polynomial::constant(start.clone()) + &along.scale(dir);
+        let obstacle = Polynomial::new(vec![at.clone(), speed.clone()]);
+        &robot - &obstacle
+    };
+    let dx = coordinate(&seg.start.x, &u.x, &x.x, &w.x);
+    let dy = coordinate(&seg.start.y, &u.y, &x.y, &w.y);
+    &(&dx * &dx) + &(&dy * &dy)
+}
+
+/// A lower bound on p over [from, to]: its Taylor form about the centre (module docs).
+fn taylor_lower(p: &Polynomial, from: &Exact, to: &Exact) -> Exact {
+    let centre = (from + to) / Exact::from(2);
+    let radius = (to - from) / Exact::from(2);
+    let around = p.compose_affine(&centre, &radius);
+    let mut coefficients = around.coefficients().iter();
+    let d0 = coefficients.next().cloned().unwrap_or(Exact::ZERO);
+    coefficients.fold(d0, |acc, d| acc - d.clone().abs())
+}
+
+/// Rationals lo ≤ √x ≤ hi for x ≥ 0, equal when x is a rational square, else 2⁻⁸⁰/den
+/// apart: √(n/d) = √(n·d·4⁸⁰)/(d·2⁸⁰), with the integer square root taken down and up.
+fn sqrt_bounds(x: &Exact) -> (Exact, Exact) {
+    if let Some(root) = rational_sqrt(x) {
+        return (root.clone(), root);
+    }
+    let (n, d) = (x.numerator().unsigned_abs(), x.denominator().clone());
+    let scaled = (&n * &d) << 160;
+    let s = scaled.sqrt();
+    let den = &d << 80;
+    (
+        Exact::from_parts(s.clone().into(), den.clone()),
+        Exact::from_parts((s + 1u8).into(), den),
+    )
+}
