@@ -47,7 +47,9 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
         Input::Scene(scene) => {
             return scene_certify::run(&scene, &args.out, args.json, args.steps, out);
         }
-        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "certify")),
+        Input::Planar(planar) => {
+            return super::planar_certify::run(&planar, &args.problem, &args.out, args.json, out);
+        }
     };
     let analysis = analysis::analyse(&problem).context("analysis failed")?;
     let cert = if args.steps {

@@ -61,8 +61,10 @@ pub struct WorstLeaf {
     pub to: Exact,
     /// The solver's optimum there (float).
     pub value: f64,
-    /// The solver's point there: distance, p, x, y, ...
+    /// The solver's point there: distance, p, x, y, ... (empty: the solver failed there).
     pub point: Vec<f64>,
+    /// The anchor's observed instant index j (None: the leaf has no anchor).
+    pub anchor_instant: Option<usize>,
 }
 
 /// A proved lower bound on the planar s*.
@@ -282,6 +284,7 @@ fn obstacle_bound(
                 to: node.to.clone(),
                 value: node.value,
                 point: node.point.clone(),
+                anchor_instant: pieces[node.piece].anchor.as_ref().map(|a| a.instant),
             }),
             programs: programs.get(),
             exhausted,

@@ -2,8 +2,12 @@
 //! separation by anchored relaxation, one second-order cone program per leaf, refined by
 //! branch and bound where the bound is lowest.
 
+mod certify;
 mod leaf_solve;
 mod lower_bound;
+mod witness;
 
+pub use certify::{PlanarAnswer, PlanarVerdict, certify_planar};
 pub use leaf_solve::{LeafBound, bound_leaf};
 pub use lower_bound::{BoundOptions, LowerBound, LowerBoundError, WorstLeaf, lower_bound};
+pub use witness::{Witness, witness};
