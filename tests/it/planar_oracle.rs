@@ -107,3 +107,32 @@ fn the_oracle_finds_a_built_collision() {
     );
     assert!(oracle.least_upper < Exact::ZERO);
 }
+
+/// A 120° field of view (cos 60° = 1/2): an obstacle starting beside the robot, outside
+/// the view, is never seen there; the bound covers the outside of the view (Lemma P1(3)).
+#[test]
+fn a_field_of_view_never_beats_the_bound() {
+    let mut params = small(0, 2.0, 0.2, at(1.2, 1.4));
+    params.sensing.view_cos_half = Some(decimal(0.5));
+    let oracle = compass_oracle(&params, at(1.2, 1.4), 0.2, 3);
+    holds_the_bound(&params, &oracle);
+}
+
+/// A Nav2-style stop polygon (1.5 m ahead, 1 m wide, in the robot's frame) instead of the
+/// disc zone: the bound covers the polygon's outside edge by edge (Lemma P1(5)).
+#[test]
+fn a_stop_polygon_never_beats_the_bound() {
+    use safereach::core::planar::DangerZone;
+    use safereach::core::plane::polygon::ConvexPolygon;
+    let mut params = small(0, 2.0, 0.2, at(3.0, 0.8));
+    let zone = ConvexPolygon::new(vec![
+        at(0.0, -0.5),
+        at(1.5, -0.5),
+        at(1.5, 0.5),
+        at(0.0, 0.5),
+    ])
+    .expect("a convex polygon");
+    params.zone = DangerZone::Polygon(zone);
+    let oracle = compass_oracle(&params, at(3.0, 0.8), 0.2, 3);
+    holds_the_bound(&params, &oracle);
+}

@@ -118,19 +118,18 @@ fn claim(bound: &LowerBound, goal: &Exact) -> Exact {
     }
 }
 
-/// Replays the witness of `bound`'s least leaf and keeps it if it is the least so far.
+/// Replays witnesses from `bound`'s lowest leaves and keeps the least so far.
 fn consider(params: &PlanarParams, bound: &LowerBound, answer: &mut PlanarAnswer) {
-    let Some(worst) = &bound.worst else {
-        return;
-    };
-    let Some(found) = witness(params, worst) else {
-        return;
-    };
-    let Some(u) = found.upper() else {
-        return;
-    };
-    if answer.upper.as_ref().is_none_or(|a| u < *a) {
-        answer.upper = Some(u);
-        answer.witness = Some(found);
+    for leaf in &bound.low {
+        let Some(found) = witness(params, leaf) else {
+            continue;
+        };
+        let Some(u) = found.upper() else {
+            continue;
+        };
+        if answer.upper.as_ref().is_none_or(|a| u < *a) {
+            answer.upper = Some(u);
+            answer.witness = Some(found);
+        }
     }
 }

@@ -27,6 +27,9 @@ use crate::proof::planar::domain::{CoverPiece, DomainError, ObstacleDomain, Piec
 
 use super::leaf_solve::{LeafBound, bound_leaf, strictly_empty};
 
+/// How many of each obstacle's lowest leaves are kept for witnesses.
+const LOW_LEAVES: usize = 6;
+
 /// How far to refine.
 #[derive(Clone, Debug)]
 pub struct BoundOptions {
@@ -74,6 +77,9 @@ pub struct LowerBound {
     pub lower: Exact,
     /// The least leaf (None: every leaf was empty, no obstacle can come near).
     pub worst: Option<WorstLeaf>,
+    /// The lowest leaves, least first (at most a few per obstacle): where witnesses are
+    /// looked for.
+    pub low: Vec<WorstLeaf>,
     /// Programs solved.
     pub programs: usize,
     /// The budget ran out before the stop rule held.
@@ -130,6 +136,7 @@ pub fn lower_bound(
     let mut total = LowerBound {
         lower: Exact::from(i64::MAX),
         worst: None,
+        low: Vec::new(),
         programs: 0,
         exhausted: false,
         unsolved: 0,
@@ -139,6 +146,7 @@ pub fn lower_bound(
         total.programs += one.programs;
         total.exhausted |= one.exhausted;
         total.unsolved += one.unsolved;
+        total.low.extend(one.low.iter().cloned());
         if one.lower < total.lower {
             total.lower = one.lower;
             total.worst = one.worst;
@@ -189,7 +197,9 @@ fn obstacle_bound(
         let mut time_loss = domain.arc_length_gain(piece, &from, &to);
         time_loss += &w * &(&to - &from);
         let arc_loss = match (&cover, &pieces[piece].anchor) {
-            (CoverPiece::Arc(arc), Some(a)) => arc.loss(&a.radius),
+            (CoverPiece::Arc(arc), Some(a)) => {
+                a.radius.as_ref().map_or(Exact::ZERO, |r| arc.loss(r))
+            }
             _ => Exact::ZERO,
         };
         heap.push(Node {
@@ -274,28 +284,30 @@ fn obstacle_bound(
             solve(&mut domain, node.piece, from, to, cover, &mut heap);
         }
     }
-    Ok(match heap.peek() {
-        Some(node) => LowerBound {
-            lower: node.lower.clone(),
-            worst: Some(WorstLeaf {
-                obstacle: index,
-                kind: pieces[node.piece].kind,
-                from: node.from.clone(),
-                to: node.to.clone(),
-                value: node.value,
-                point: node.point.clone(),
-                anchor_instant: pieces[node.piece].anchor.as_ref().map(|a| a.instant),
-            }),
-            programs: programs.get(),
-            exhausted,
-            unsolved: unsolved.get(),
-        },
-        None => LowerBound {
-            lower: Exact::from(i64::MAX),
-            worst: None,
-            programs: programs.get(),
-            exhausted,
-            unsolved: unsolved.get(),
-        },
+    let leaf = |node: &Node| WorstLeaf {
+        obstacle: index,
+        kind: pieces[node.piece].kind,
+        from: node.from.clone(),
+        to: node.to.clone(),
+        value: node.value,
+        point: node.point.clone(),
+        anchor_instant: pieces[node.piece].anchor.as_ref().map(|a| a.instant),
+    };
+    let lower = heap
+        .peek()
+        .map_or(Exact::from(i64::MAX), |n| n.lower.clone());
+    let mut low = Vec::new();
+    while low.len() < LOW_LEAVES
+        && let Some(node) = heap.pop()
+    {
+        low.push(leaf(&node));
+    }
+    Ok(LowerBound {
+        lower,
+        worst: low.first().cloned(),
+        low,
+        programs: programs.get(),
+        exhausted,
+        unsolved: unsolved.get(),
     })
 }

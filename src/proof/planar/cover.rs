@@ -12,6 +12,7 @@
 use crate::core::num::Exact;
 use crate::core::plane::direction::{RationalDirection, rational_sqrt};
 use crate::core::plane::point::Point;
+use crate::core::plane::polygon::ConvexPolygon;
 
 /// A closed half-plane {x : normal·x ≥ offset}.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -153,6 +154,66 @@ pub fn line_sides(p: &Point, d: &Point, centre: &Point, radius: &Exact) -> Optio
             offset: -(base + w_c - h),
         },
     ])
+}
+
+/// Half-planes that hold every centre *outside* the field of view of a robot at `centre`
+/// heading along the unit `heading`, the view's half-angle α having cos α = `cos_half`
+/// (Lemma P1(3), with P3's cover of a cone's outside). For α ≤ 90° the view contains the
+/// cone of a rational half-angle α′ ≤ α (tan(α′/2) rounded down), whose outside is the two
+/// half-planes beyond its rays; for α > 90° it contains the half-plane ahead, whose
+/// outside is the one behind. Empty when the view is all round (cos α ≤ −1).
+pub fn outside_view(centre: &Point, heading: &Point, cos_half: &Exact) -> Vec<HalfPlane> {
+    let beyond = |normal: Point| HalfPlane {
+        offset: normal.dot(centre),
+        normal,
+    };
+    if *cos_half <= -Exact::ONE {
+        return Vec::new();
+    }
+    if *cos_half < Exact::ZERO {
+        return vec![beyond(-heading)];
+    }
+    // tan²(α/2) = (1 − cos α)/(1 + cos α); a smaller tangent gives a narrower cone.
+    let t2 = (Exact::ONE - cos_half) / (Exact::ONE + cos_half);
+    let t = rational_sqrt(&t2).unwrap_or_else(|| sqrt_below(&t2));
+    let left = RationalDirection::from_half_angle_tangent(&t).rotate(heading);
+    let right = RationalDirection::from_half_angle_tangent(&-t).rotate(heading);
+    vec![
+        // Beyond the left ray: its left normal; beyond the right ray: its right normal.
+        beyond(Point::new(-left.y.clone(), left.x.clone())),
+        beyond(Point::new(right.y.clone(), -right.x.clone())),
+    ]
+}
+
+/// Half-planes that hold every centre outside the convex polygon `zone` (given in the
+/// robot's frame: origin at its centre, x along its heading) shrunk by `inset` ≥ 0, for a
+/// robot at `centre` heading along the unit `heading` (Lemma P1(5) and P3(1)): one per
+/// edge, beyond the edge moved inwards by at least `inset` (its normal's length rounded
+/// up, so the shrunk polygon is never larger than the exact inner parallel body).
+pub fn outside_polygon(
+    zone: &ConvexPolygon,
+    inset: &Exact,
+    centre: &Point,
+    heading: &RationalDirection,
+) -> Vec<HalfPlane> {
+    super::leaf::region_half_planes(zone)
+        .into_iter()
+        .map(|inner| {
+            let length = sqrt_above(&inner.normal.norm_squared());
+            let normal = heading.rotate(&inner.normal);
+            let offset = inner.offset + inset * &length + normal.dot(centre);
+            HalfPlane {
+                normal: -&normal,
+                offset: -offset,
+            }
+        })
+        .collect()
+}
+
+/// A rational h ≥ √v (v ≥ 0): exact when √v is rational, else within 2⁻⁴⁰ above.
+fn sqrt_above(v: &Exact) -> Exact {
+    rational_sqrt(v)
+        .unwrap_or_else(|| sqrt_below(v) + Exact::from_parts(1.into(), dashu_int::UBig::ONE << 40))
 }
 
 /// A rational h′ ≤ √v with √v − h′ < 2⁻⁴⁰ (v > 0): ⌊√⌊v·4⁴⁰⌋⌋ / 2⁴⁰.

@@ -19,7 +19,7 @@ use crate::core::planar::{DangerZone, PlanarObstacle, PlanarParams, Start};
 use crate::core::plane::point::Point;
 use crate::core::semantics::danger_distance;
 
-use super::cover::{Arc, HalfPlane, line_sides};
+use super::cover::{Arc, HalfPlane, line_sides, outside_polygon, outside_view};
 use super::leaf::{Leaf, Travel};
 use super::trajectory::{BrakeTrajectory, DriveProfile};
 
@@ -32,8 +32,8 @@ pub enum PieceKind {
     Post(usize),
 }
 
-/// The anchor of a piece: the disc around the robot's centre at the observed instant that
-/// the obstacle's centre was outside of (Lemma P1: the sure-fire disc).
+/// The anchor of a piece: the sure-fire set about the robot's centre at the observed
+/// instant that the obstacle's centre was outside of (Lemma P1), as a disc and half-planes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchor {
     /// The anchor step k.
@@ -42,8 +42,13 @@ pub struct Anchor {
     pub instant: usize,
     /// The robot's centre at j·dt.
     pub centre: Point,
-    /// The sure-fire radius: min(θ_k + r − σ_p, range, d_det + r); > 0.
-    pub radius: Exact,
+    /// The sure-fire disc's radius: the least of θ_k + r − σ_p (disc zone), the range and
+    /// d_det + r, each less D; > 0. None: no disc bounds the set (a polygon zone, no range,
+    /// no occlusion).
+    pub radius: Option<Exact>,
+    /// Half-planes that, with the disc's outside, cover the set's outside: beyond the
+    /// view's rays, beyond the zone polygon's edges.
+    pub outside: Vec<HalfPlane>,
 }
 
 /// One piece: a time interval and its anchor (None: only the reachable set bounds it).
@@ -71,6 +76,8 @@ pub enum CoverPiece {
     Side(usize),
     /// An arc of directions from the disc's centre (P3(2), refinable).
     Arc(Arc),
+    /// Beyond the anchor's outside half-plane of this index (the view's, the zone's).
+    Outside(usize),
 }
 
 /// Why an obstacle's pieces cannot be listed.
@@ -104,14 +111,6 @@ impl<'a> ObstacleDomain<'a> {
         goal: &Exact,
         step_limit: usize,
     ) -> Result<Self, DomainError> {
-        if matches!(params.zone, DangerZone::Polygon(_)) {
-            return Err(DomainError::Unsupported(
-                "controller.danger_zone = \"polygon\"",
-            ));
-        }
-        if params.sensing.view_cos_half.is_some() {
-            return Err(DomainError::Unsupported("sensing.field_of_view"));
-        }
         let obstacle = &params.obstacles[index];
         let goal_len = params.path_ends.then(|| params.path.length());
         let mut profile = DriveProfile::new(params.motion.clone(), goal_len);
@@ -168,7 +167,11 @@ impl<'a> ObstacleDomain<'a> {
         }
     }
 
-    /// The sure-fire disc of step k (Lemma P1), if its radius is positive.
+    /// The sure-fire set of step k (Lemma P1) as the disc and half-planes whose outsides
+    /// cover its outside; None when the set is empty (the anchor constrains nothing).
+    ///
+    /// The analysed path is within D of the file's (§13), so the robot centre used here is
+    /// within D of the true one: every radius about it is taken D smaller.
     fn anchor(&mut self, k: usize) -> Option<Anchor> {
         let p = &self.params.motion;
         let l = p.L;
@@ -179,47 +182,73 @@ impl<'a> ObstacleDomain<'a> {
             _ => p.rho.clone(),
         };
         let s = &self.params.sensing;
-        let mut radius = theta + &self.radii - &s.position_noise;
-        if let Some(range) = &s.range
-            && *range < radius
-        {
-            radius = range.clone();
+        let drift = self.params.path.drift().clone();
+        let rims = &self.params.robot_radius + &self.obstacle.radius;
+        let mut caps: Vec<Exact> = Vec::new();
+        if matches!(self.params.zone, DangerZone::Disc) {
+            caps.push(theta + &rims - &s.position_noise - &drift);
+        }
+        if let Some(range) = &s.range {
+            caps.push(range - &drift);
         }
         if let Some(d) = &s.first_detection {
-            let hidden = d + &self.radii;
-            if hidden < radius {
-                radius = hidden;
-            }
+            caps.push(d + &rims - &drift);
         }
-        if radius <= Exact::ZERO {
+        let radius = caps.into_iter().reduce(|a, b| if b < a { b } else { a });
+        if radius.as_ref().is_some_and(|r| *r <= Exact::ZERO) {
             return None;
         }
         let drive = BrakeTrajectory::new(&mut self.profile, None);
         let at = Exact::from(j) * &p.dt;
         let centre = drive.centre_at(&mut self.profile, &self.params.path, &at);
+        let position = drive.state_at(&mut self.profile, &at).position;
+        let heading = self.params.path.heading_at(&position).clone();
+        let mut outside = Vec::new();
+        if let DangerZone::Polygon(zone) = &self.params.zone {
+            // The seen disc meets Z whatever the noise when the centre is in Z shrunk by
+            // σ_p − r_i (if positive) and by D.
+            let mut inset = &s.position_noise - &self.obstacle.radius;
+            if inset < Exact::ZERO {
+                inset = Exact::ZERO;
+            }
+            inset += &drift;
+            outside.extend(outside_polygon(zone, &inset, &centre, &heading));
+        }
+        if let Some(c) = &s.view_cos_half {
+            outside.extend(outside_view(&centre, heading.unit(), c));
+        }
+        if radius.is_none() && outside.is_empty() {
+            return None;
+        }
         Some(Anchor {
             step: k,
             instant: j,
             centre,
             radius,
+            outside,
         })
     }
 
     /// The cover sets a piece starts with: its anchor disc's two sides on a fixed
-    /// direction's line, four quarter arcs otherwise, the whole plane without an anchor.
+    /// direction's line, or four quarter arcs, and one set per outside half-plane; the
+    /// whole plane without an anchor.
     pub fn initial_covers(&self, piece: &Piece) -> Vec<CoverPiece> {
         let Some(anchor) = &piece.anchor else {
             return vec![CoverPiece::Whole];
         };
-        match (&self.obstacle.direction, &self.obstacle.start) {
-            (Some(d), Start::At(p)) => {
-                match line_sides(p, d.unit(), &anchor.centre, &anchor.radius) {
-                    Some(_) => vec![CoverPiece::Side(0), CoverPiece::Side(1)],
-                    None => vec![CoverPiece::Whole],
-                }
+        let mut covers = Vec::new();
+        if let Some(radius) = &anchor.radius {
+            match (&self.obstacle.direction, &self.obstacle.start) {
+                (Some(d), Start::At(p)) => match line_sides(p, d.unit(), &anchor.centre, radius) {
+                    Some(_) => covers.extend([CoverPiece::Side(0), CoverPiece::Side(1)]),
+                    // The line misses the disc: every feasible centre is outside it.
+                    None => return vec![CoverPiece::Whole],
+                },
+                _ => covers.extend(Arc::quarters().into_iter().map(CoverPiece::Arc)),
             }
-            _ => Arc::quarters().into_iter().map(CoverPiece::Arc).collect(),
         }
+        covers.extend((0..anchor.outside.len()).map(CoverPiece::Outside));
+        covers
     }
 
     /// s(t₂) − s(t₁) for the robot's motion on piece `index`: the chord loss of Lemma P4.
@@ -260,11 +289,15 @@ impl<'a> ObstacleDomain<'a> {
                 let at = Exact::from(a.instant) * &dt;
                 let cover: Vec<HalfPlane> = match cover {
                     CoverPiece::Whole => Vec::new(),
-                    CoverPiece::Arc(arc) => arc.half_planes(&a.centre, &a.radius).to_vec(),
+                    CoverPiece::Outside(i) => vec![a.outside[*i].clone()],
+                    CoverPiece::Arc(arc) => match &a.radius {
+                        Some(r) => arc.half_planes(&a.centre, r).to_vec(),
+                        None => Vec::new(),
+                    },
                     CoverPiece::Side(side) => {
-                        match (&self.obstacle.direction, &self.obstacle.start) {
-                            (Some(d), Start::At(p)) => {
-                                line_sides(p, d.unit(), &a.centre, &a.radius)
+                        match (&self.obstacle.direction, &self.obstacle.start, &a.radius) {
+                            (Some(d), Start::At(p), Some(r)) => {
+                                line_sides(p, d.unit(), &a.centre, r)
                                     .map(|sides| vec![sides[*side].clone()])
                                     .unwrap_or_default()
                             }
