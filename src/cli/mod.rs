@@ -27,6 +27,7 @@ mod merge;
 mod monitor;
 mod output;
 mod planar_certify;
+mod planar_simulate;
 mod radius;
 mod region;
 mod report;

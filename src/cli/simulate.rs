@@ -72,7 +72,14 @@ pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
     let horizon = match &input {
         Input::Problem(p) => simulate::horizon(&analysis::params_f64(&p.params::<Exact>())),
         Input::Scene(s) => safereach::core::scene::simulate::horizon(&s.params::<f64>()),
-        Input::Planar(_) => return Err(input::planar_unsupported(path, "simulate")),
+        Input::Planar(planar) => {
+            if args.trace.is_some() {
+                anyhow::bail!("--trace: not written for planar problems yet (issue 36)");
+            }
+            return super::planar_simulate::random(
+                planar, path, args.runs, args.seed, args.json, out,
+            );
+        }
     };
     let budget = Budget::new(Work::SimulatedPeriods, args.max_periods);
     simulate::runs_within(&budget, args.runs, horizon)
@@ -87,7 +94,7 @@ pub fn run(args: SimulateArgs, out: &mut Output) -> Result<Exit> {
             out,
         ),
         Input::Scene(scene) => scene_simulate::random(&scene, &args, out),
-        Input::Planar(_) => Err(input::planar_unsupported(path, "simulate")),
+        Input::Planar(_) => unreachable!("planar problems are simulated above"),
     }
 }
 

@@ -61,3 +61,24 @@ fn the_crossing_car_is_refuted_by_a_colliding_witness() {
         assert!(vx.abs() < 1e-12 && (0.0..=10.0 + 1e-9).contains(&vy), "{v}");
     }
 }
+
+#[test]
+fn simulate_runs_random_planar_runs_and_names_the_closest() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let out = safereach(dir.path())
+        .arg("simulate")
+        .arg(problem("crossing-car"))
+        .args(["--runs", "5", "--json"])
+        .assert()
+        .code(0)
+        .get_output()
+        .stdout
+        .clone();
+    let r: serde_json::Value = serde_json::from_slice(&out).expect("JSON");
+    assert_eq!(r["runs"], 5);
+    assert_eq!(r["collisions"], 0);
+    assert_eq!(r["closest_obstacle"], "car");
+    // A random run is a behaviour: never below the proved bound of certify.
+    let least = r["least_separation"].as_f64().expect("a closest run");
+    assert!(least >= -1.208413535, "{least}");
+}

@@ -136,3 +136,24 @@ fn a_stop_polygon_never_beats_the_bound() {
     let oracle = compass_oracle(&params, at(3.0, 0.8), 0.2, 3);
     holds_the_bound(&params, &oracle);
 }
+
+/// Random runs (random headings and speeds, `analysis::planar::planar_monte_carlo`) are
+/// behaviours too: none separates by less than the bound, and on the problem built to
+/// collide some of them collide.
+#[test]
+fn random_runs_never_beat_the_bound_and_find_the_built_collision() {
+    use safereach::analysis::planar::planar_monte_carlo;
+    let params = small(0, 2.0, 0.2, at(3.0, 0.8));
+    let random = planar_monte_carlo(&params, 40, 7, 60);
+    let closest = random.closest.expect("the robot moves");
+    let bound = lower_bound(&params, &closest.separation.upper, &BoundOptions::default())
+        .expect("the plane bounds");
+    assert!(
+        closest.separation.lower >= bound.lower,
+        "a random run beats the bound"
+    );
+    assert_eq!(random.collisions, 0);
+    let colliding = small(2, 0.3, 0.8, at(2.0, 1.0));
+    let random = planar_monte_carlo(&colliding, 200, 7, 60);
+    assert!(random.collisions > 0, "no collision in 200 random runs");
+}

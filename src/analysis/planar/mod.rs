@@ -5,9 +5,11 @@
 mod certify;
 mod leaf_solve;
 mod lower_bound;
+mod monte_carlo;
 mod witness;
 
 pub use certify::{PlanarAnswer, PlanarVerdict, certify_planar};
 pub use leaf_solve::{LeafBound, bound_leaf};
 pub use lower_bound::{BoundOptions, LowerBound, LowerBoundError, WorstLeaf, lower_bound};
+pub use monte_carlo::{ClosestRun, PlanarMonteCarlo, planar_monte_carlo};
 pub use witness::{Witness, witness};
