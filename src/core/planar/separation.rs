@@ -20,10 +20,10 @@
 //! Separations are σ = √D − r (r = r_R + r_i); the square root of each end of the bracket
 //! is taken outwards in rationals (exactly when D is a rational square).
 
-use dashu_int::ops::{Abs, SquareRoot, UnsignedAbs};
+use dashu_int::ops::Abs;
 
 use crate::core::num::Exact;
-use crate::core::plane::direction::rational_sqrt;
+use crate::core::plane::direction::sqrt_bounds;
 use crate::core::plane::point::Point;
 use crate::core::plane::rational_path::RationalPath;
 use crate::core::polynomial::Polynomial;
@@ -268,20 +268,4 @@ fn taylor_lower(p: &Polynomial, from: &Exact, to: &Exact) -> Exact {
     let mut coefficients = around.coefficients().iter();
     let d0 = coefficients.next().cloned().unwrap_or(Exact::ZERO);
     coefficients.fold(d0, |acc, d| acc - d.clone().abs())
-}
-
-/// Rationals lo ≤ √x ≤ hi for x ≥ 0, equal when x is a rational square, else 2⁻⁸⁰/den
-/// apart: √(n/d) = √(n·d·4⁸⁰)/(d·2⁸⁰), with the integer square root taken down and up.
-fn sqrt_bounds(x: &Exact) -> (Exact, Exact) {
-    if let Some(root) = rational_sqrt(x) {
-        return (root.clone(), root);
-    }
-    let (n, d) = (x.numerator().unsigned_abs(), x.denominator().clone());
-    let scaled = (&n * &d) << 160;
-    let s = scaled.sqrt();
-    let den = &d << 80;
-    (
-        Exact::from_parts(s.clone().into(), den.clone()),
-        Exact::from_parts((s + 1u8).into(), den),
-    )
 }

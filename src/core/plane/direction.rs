@@ -115,3 +115,19 @@ pub(crate) fn rational_sqrt(r: &Exact) -> Option<Exact> {
     let (num, den) = (r.numerator().unsigned_abs(), r.denominator().clone());
     Some(Exact::from_parts(root(&num)?.into(), root(&den)?))
 }
+
+/// Rationals lo ≤ √x ≤ hi for x ≥ 0, equal when x is a rational square, else 2⁻⁸⁰/den
+/// apart: √(n/d) = √(n·d·4⁸⁰)/(d·2⁸⁰), with the integer square root taken down and up.
+pub(crate) fn sqrt_bounds(x: &Exact) -> (Exact, Exact) {
+    if let Some(root) = rational_sqrt(x) {
+        return (root.clone(), root);
+    }
+    let (n, d) = (x.numerator().unsigned_abs(), x.denominator().clone());
+    let scaled = (&n * &d) << 160;
+    let s = scaled.sqrt();
+    let den = &d << 80;
+    (
+        Exact::from_parts(s.clone().into(), den.clone()),
+        Exact::from_parts((s + 1u8).into(), den),
+    )
+}

@@ -10,7 +10,7 @@
 //! dir((t_lo + t_hi)/2) lies on it.
 
 use crate::core::num::Exact;
-use crate::core::plane::direction::{RationalDirection, rational_sqrt};
+use crate::core::plane::direction::{RationalDirection, sqrt_bounds};
 use crate::core::plane::point::Point;
 use crate::core::plane::polygon::ConvexPolygon;
 
@@ -130,7 +130,7 @@ impl Arc {
 /// fixed-direction obstacle from a start point), and the line meets the disc B̄(c, R) in the
 /// interval w ∈ [w_c − h, w_c + h], w_c = d·(c − p), h = √(R² − dist(c, line)²). The two
 /// half-planes d·(x − p) ≥ w_c + h′ and d·(x − p) ≤ w_c − h′ with a rational h′ ≤ h (h itself when it
-/// is rational, else within 2⁻⁴⁰) hold every point of the line outside the disc. None: the line misses the open
+/// is rational, else within 2⁻⁸⁰/den) hold every point of the line outside the disc. None: the line misses the open
 /// disc, and the anchor constrains nothing on it.
 pub fn line_sides(p: &Point, d: &Point, centre: &Point, radius: &Exact) -> Option<[HalfPlane; 2]> {
     let rel = centre - p;
@@ -142,7 +142,7 @@ pub fn line_sides(p: &Point, d: &Point, centre: &Point, radius: &Exact) -> Optio
     }
     // Exact when h is rational (a centre on the line: h = R), so that a start exactly on
     // the threshold is seen there, as the guard sees it.
-    let h = rational_sqrt(&inside).unwrap_or_else(|| sqrt_below(&inside));
+    let h = sqrt_bounds(&inside).0;
     let base = d.dot(p);
     Some([
         HalfPlane {
@@ -175,7 +175,7 @@ pub fn outside_view(centre: &Point, heading: &Point, cos_half: &Exact) -> Vec<Ha
     }
     // tan²(α/2) = (1 − cos α)/(1 + cos α); a smaller tangent gives a narrower cone.
     let t2 = (Exact::ONE - cos_half) / (Exact::ONE + cos_half);
-    let t = rational_sqrt(&t2).unwrap_or_else(|| sqrt_below(&t2));
+    let t = sqrt_bounds(&t2).0;
     let left = RationalDirection::from_half_angle_tangent(&t).rotate(heading);
     let right = RationalDirection::from_half_angle_tangent(&-t).rotate(heading);
     vec![
@@ -199,7 +199,7 @@ pub fn outside_polygon(
     super::leaf::region_half_planes(zone)
         .into_iter()
         .map(|inner| {
-            let length = sqrt_above(&inner.normal.norm_squared());
+            let length = sqrt_bounds(&inner.normal.norm_squared()).1;
             let normal = heading.rotate(&inner.normal);
             let offset = inner.offset + inset * &length + normal.dot(centre);
             HalfPlane {
@@ -208,23 +208,6 @@ pub fn outside_polygon(
             }
         })
         .collect()
-}
-
-/// A rational h ≥ √v (v ≥ 0): exact when √v is rational, else within 2⁻⁴⁰ above.
-fn sqrt_above(v: &Exact) -> Exact {
-    rational_sqrt(v)
-        .unwrap_or_else(|| sqrt_below(v) + Exact::from_parts(1.into(), dashu_int::UBig::ONE << 40))
-}
-
-/// A rational h′ ≤ √v with √v − h′ < 2⁻⁴⁰ (v > 0): ⌊√⌊v·4⁴⁰⌋⌋ / 2⁴⁰.
-fn sqrt_below(v: &Exact) -> Exact {
-    use dashu_int::ops::SquareRoot;
-    let scale = dashu_int::UBig::ONE << 80;
-    let scaled = v * Exact::from(dashu_int::IBig::from(scale));
-    let floor = scaled.floor();
-    let n = dashu_int::UBig::try_from(floor).unwrap_or_default();
-    let root = n.sqrt();
-    Exact::from_parts(root.into(), dashu_int::UBig::ONE << 40)
 }
 
 #[cfg(test)]
