@@ -2,18 +2,20 @@
 //! the crossing car, against the line's analyser on the seed in the same run (the ratio is
 //! what compares across machines), and how the cost grows with the number of obstacles
 //! (copies of the seed's obstacle further out) and with the horizon (the control period
-//! halved). Run with `cargo bench --bench planar`.
+//! halved); and the solver-free `check` of each certificate. Run with
+//! `cargo bench --bench planar`.
 
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
 
 use safereach::analysis::analyse;
-use safereach::analysis::planar::{BoundOptions, certify_planar};
+use safereach::analysis::planar::{BoundOptions, ProblemText, certify_planar, planar_certificate};
 use safereach::core::model::Problem;
 use safereach::core::num::{Exact, exact_decimal};
 use safereach::core::planar::{PlanarParams, PlanarProblem, Start};
 use safereach::core::plane::point::Point;
+use safereach::proof::planar::check::check_planar;
 
 #[path = "support/median.rs"]
 mod support;
@@ -50,6 +52,23 @@ fn main() {
             "planar certify {name}: {t:?} ({programs} programs, {:?} per program, {:.0}x the baseline)",
             t / programs.max(1) as u32,
             t.as_secs_f64() / line.as_secs_f64()
+        );
+        let text = std::fs::read_to_string(root.join(format!("problems/planar/{name}.toml")))
+            .expect("a shipped planar problem");
+        let options = BoundOptions::default();
+        let answer = certify_planar(&params, &options, &exact_decimal(1e-6)).expect("bounds");
+        let stored = ProblemText {
+            toml: &text,
+            overrides: &[],
+        };
+        let cert = planar_certificate(&stored, name, &params, &answer, &options, 1e-6);
+        let c = support::median(5, || {
+            black_box(check_planar(black_box(&cert)).expect("checks"));
+        });
+        println!(
+            "planar check {name}: {c:?} ({} leaves, {:.0}x the baseline)",
+            cert.leaves(),
+            c.as_secs_f64() / line.as_secs_f64()
         );
     }
     let base = load("seed-in-plane");

@@ -1,4 +1,4 @@
-//! The certificate reader and `check` (single, scene and search certificates), and the
+//! The certificate reader and `check` (single, scene, search and planar certificates), and the
 //! region map checker, as `safereach check` runs them.
 //!
 //! Input: a certificate or region map (JSON). Properties: a certificate that checks Ok has
@@ -38,12 +38,14 @@ fn forged(cert: &CertificateFile) -> Option<CertificateFile> {
         CertificateFile::Single(c) => c.compute_digest(),
         CertificateFile::Scene(c) => c.compute_digest(),
         CertificateFile::Search(c) => c.compute_digest(),
+        CertificateFile::Planar(c) => c.compute_digest(),
     };
     let mut cert = cert.clone();
     let stated = match &mut cert {
         CertificateFile::Single(c) => &mut c.digest,
         CertificateFile::Scene(c) => &mut c.digest,
         CertificateFile::Search(c) => &mut c.digest,
+        CertificateFile::Planar(c) => &mut c.digest,
     };
     if *stated == computed {
         return None;

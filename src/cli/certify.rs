@@ -47,8 +47,15 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
         Input::Scene(scene) => {
             return scene_certify::run(&scene, &args.out, args.json, args.steps, out);
         }
-        Input::Planar(planar) => {
-            return super::planar_certify::run(&planar, &args.problem, &args.out, args.json, out);
+        Input::Planar(_) => {
+            // Read again from its text, which the certificate stores.
+            return super::planar_certify::run(
+                &args.problem,
+                &args.sets,
+                &args.out,
+                args.json,
+                out,
+            );
         }
     };
     let analysis = analysis::analyse(&problem).context("analysis failed")?;

@@ -1,19 +1,21 @@
-//! `safereach certify` on a planar problem: the verdict, the bracket on s* and the witness
-//! (docs/semantics.md §13). The lower end is proved from the SOC duals in exact rationals;
-//! the upper end is a behaviour's exact replay.
+//! `safereach certify` on a planar problem: the verdict, the bracket on s*, the witness and
+//! the certificate (docs/semantics.md §13). The lower end is proved from the SOC duals in
+//! exact rationals; the upper end is a behaviour's exact replay; the certificate is checked
+//! by `proof::planar::check` before anything is printed, as `check` would.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use serde::Serialize;
 
 use safereach::analysis::planar::{
-    BoundOptions, LowerBoundError, PlanarAnswer, PlanarVerdict, certify_planar,
+    BoundOptions, LowerBoundError, PlanarVerdict, ProblemText, certify_planar, planar_certificate,
 };
-use safereach::core::num::Exact;
-use safereach::core::planar::{PlanarGuard, PlanarParams, PlanarProblem};
+use safereach::core::planar::PlanarProblem;
 use safereach::core::show::{down, up, value};
+use safereach::core::text_file;
+use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::planar::certificate::PlanarCertificate;
 use safereach::proof::planar::domain::DomainError;
 
 use super::exit::Exit;
@@ -22,67 +24,50 @@ use super::output::{Output, write_file};
 /// The bracket the planar s* is refined to where the relaxation allows (issue 36: 1e-6).
 const TOLERANCE: f64 = 1e-6;
 
-/// The answer as `--json` prints it and `--out` writes it.
-#[derive(Serialize)]
-struct PlanarReport {
-    problem: String,
-    verdict: &'static str,
-    clearance: f64,
-    /// s* ≥ this (proved; rounded down).
-    lower_bound: f64,
-    /// The same, exact (a rational).
-    lower_bound_exact: String,
-    /// s* ≤ this: the witness's replayed separation (rounded up).
-    upper_bound: Option<f64>,
-    programs: usize,
-    budget_exhausted: bool,
-    unsolved_leaves: usize,
-    witness: Option<WitnessReport>,
-}
-
-#[derive(Serialize)]
-struct WitnessReport {
-    /// The obstacle that comes closest.
-    obstacle: String,
-    /// When it is closest (s).
-    closest_at: f64,
-    /// The step the robot brakes at, and the guard.
-    brake_step: Option<usize>,
-    guard: Option<String>,
-    /// When the robot rests (s).
-    rest: Option<f64>,
-    /// Each obstacle's start and per-step velocity (m, m/s), as replayed.
-    obstacles: Vec<ObstacleMotion>,
-}
-
-#[derive(Serialize)]
-struct ObstacleMotion {
-    name: String,
-    start: [f64; 2],
-    velocities: Vec<[f64; 2]>,
-}
-
-/// Certifies the planar problem read from `path`.
+/// Certifies the planar problem read from `path` with the overrides `sets`.
 pub fn run(
-    problem: &PlanarProblem,
     path: &Path,
+    sets: &[String],
     out_path: &Option<PathBuf>,
     json: bool,
     out: &mut Output,
 ) -> Result<Exit> {
+    // The certificate stores the text it was read from, so `check` reads the same problem.
+    let text = text_file::read_text(path, text_file::MAX_PROBLEM_BYTES)
+        .map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
+    let problem =
+        PlanarProblem::from_toml_str_with_overrides(&text, &path.display().to_string(), sets)?;
     let params = problem.params();
     let tolerance = safereach::core::num::exact_decimal(TOLERANCE);
-    let answer = certify_planar(&params, &BoundOptions::default(), &tolerance)
-        .map_err(|e| explain(path, e))?;
-    let report = report(problem, &params, &answer);
-    let text = serde_json::to_string_pretty(&report)? + "\n";
+    let options = BoundOptions::default();
+    let answer = certify_planar(&params, &options, &tolerance).map_err(|e| explain(path, e))?;
+    let stored = ProblemText {
+        toml: &text,
+        overrides: sets,
+    };
+    let cert = planar_certificate(
+        &stored,
+        &problem.name,
+        &params,
+        &answer,
+        &options,
+        TOLERANCE,
+    );
+    let cert = CertificateFile::Planar(Box::new(cert));
+    // Never print a verdict the exact checker would not accept.
+    cert.check()
+        .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
+    let text = cert.to_json();
     if let Some(p) = out_path {
         write_file(p, text.as_bytes())?;
     }
+    let CertificateFile::Planar(c) = &cert else {
+        unreachable!("built above")
+    };
     if json {
         write!(out, "{text}")?;
     } else {
-        write!(out, "{}", summary(&report))?;
+        write!(out, "{}", summary(c))?;
     }
     Ok(match answer.verdict {
         PlanarVerdict::Certified => Exit::Pass,
@@ -104,56 +89,8 @@ fn explain(path: &Path, e: LowerBoundError) -> anyhow::Error {
     anyhow::anyhow!("{}: {why}", path.display())
 }
 
-fn f(x: &Exact) -> f64 {
-    x.to_f64().value()
-}
-
-fn report(problem: &PlanarProblem, params: &PlanarParams, answer: &PlanarAnswer) -> PlanarReport {
-    let witness = answer.witness.as_ref().and_then(|w| {
-        let (i, sep) = w.run.closest()?;
-        Some(WitnessReport {
-            obstacle: params.obstacles[i].name.clone(),
-            closest_at: f(&sep.at),
-            brake_step: w.run.brake.as_ref().map(|b| b.step),
-            guard: w.run.brake.as_ref().map(|b| match b.guard {
-                PlanarGuard::Danger { obstacle } => {
-                    format!("danger ({})", params.obstacles[obstacle].name)
-                }
-                PlanarGuard::WrongAssumption { obstacle } => {
-                    format!("wrong assumption ({})", params.obstacles[obstacle].name)
-                }
-                PlanarGuard::Destination => "destination".to_string(),
-            }),
-            rest: w.run.rest.as_ref().map(f),
-            obstacles: w
-                .behaviour
-                .obstacles
-                .iter()
-                .zip(&params.obstacles)
-                .map(|(b, o)| ObstacleMotion {
-                    name: o.name.clone(),
-                    start: [f(&b.start.x), f(&b.start.y)],
-                    velocities: b.velocities.iter().map(|v| [f(&v.x), f(&v.y)]).collect(),
-                })
-                .collect(),
-        })
-    });
-    PlanarReport {
-        problem: problem.name.clone(),
-        verdict: answer.verdict.as_str(),
-        clearance: f(&params.motion.clearance),
-        lower_bound: f(&answer.lower),
-        lower_bound_exact: answer.lower.to_string(),
-        upper_bound: answer.upper.as_ref().map(f),
-        programs: answer.programs,
-        budget_exhausted: answer.exhausted,
-        unsolved_leaves: answer.unsolved,
-        witness,
-    }
-}
-
-fn summary(r: &PlanarReport) -> String {
-    let mut s = format!("{}: {} (planar)\n", r.problem, r.verdict);
+fn summary(r: &PlanarCertificate) -> String {
+    let mut s = format!("{}: {} (planar)\n", r.problem, r.verdict.as_str());
     let lower = down(r.lower_bound, 9);
     s += &match r.upper_bound {
         Some(u) => format!(
@@ -168,6 +105,10 @@ fn summary(r: &PlanarReport) -> String {
          recomputed from its duals in exact rationals; clearance {} m\n",
         r.programs,
         value(r.clearance)
+    );
+    s += &format!(
+        "  certificate: {} leaves, re-verified without the solver (safereach check)\n",
+        r.leaves()
     );
     if r.budget_exhausted {
         s += "  note: the refinement budget ran out; the bound is sound but may be loose\n";
@@ -192,7 +133,7 @@ fn summary(r: &PlanarReport) -> String {
                 .unwrap_or_default()
         );
     }
-    if r.verdict == "inconclusive" {
+    if r.verdict == safereach::proof::verdict::Verdict::Inconclusive {
         s += "  the clearance lies inside the bracket: the relaxation (reductions.md §11) \
               cannot decide it\n";
     }

@@ -1,18 +1,23 @@
 //! `safereach simulate` on a planar problem: random runs (random headings and speeds,
-//! changed now and then), each replayed exactly; exit 1 when one collides.
+//! changed now and then), each replayed exactly, exit 1 when one collides; and `--replay`
+//! of a planar certificate's witness, with its trace.
 
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use serde::Serialize;
 
 use safereach::analysis::planar::planar_monte_carlo;
-use safereach::core::planar::PlanarProblem;
+use safereach::core::num::Exact;
+use safereach::core::planar::{PlanarProblem, run_observed};
 use safereach::core::show::{up, value};
+use safereach::proof::certificate_file::CertificateFile;
+use safereach::proof::planar::certificate::PlanarCertificate;
+use safereach::proof::planar::witness_record;
 
 use super::exit::Exit;
-use super::output::Output;
+use super::output::{Output, write_file};
 
 /// The most control periods one planar run may take (it ends earlier at rest).
 const MAX_STEPS: usize = 3000;
@@ -76,4 +81,142 @@ pub fn random(
         }
     }
     Ok(Exit::fail_if(found.collisions > 0))
+}
+
+/// `simulate --replay` of a planar certificate (already checked): its witness replayed
+/// exactly on the certificate's own problem, with every step's positions in `trace` (CSV,
+/// or JSON Lines for `.jsonl`): one row per obstacle per step start.
+pub fn replay(
+    cert: &PlanarCertificate,
+    path: &Path,
+    trace: Option<&Path>,
+    json: bool,
+    out: &mut Output,
+) -> Result<Exit> {
+    let problem = certificate_problem(cert, path)?;
+    let params = problem.params();
+    let witness = cert.witness.as_ref().with_context(|| {
+        format!(
+            "{}: the certificate has no witness to replay",
+            path.display()
+        )
+    })?;
+    let behaviour = witness_record::behaviour(&params, witness)
+        .map_err(|e| anyhow::anyhow!("{}: the witness: {e}", path.display()))?;
+    let mut rows = Vec::new();
+    let replayed = run_observed(&params, &behaviour, witness.steps, |r| {
+        let robot = r.robot();
+        let centre = r.robot_centre();
+        for (i, o) in params.obstacles.iter().enumerate() {
+            let at = r.centre(i);
+            rows.push(TraceRow {
+                step: r.k(),
+                t: (Exact::from(r.k()) * &params.motion.dt).to_f64().value(),
+                robot_x: centre.x.to_f64().value(),
+                robot_y: centre.y.to_f64().value(),
+                robot_speed: robot.speed.to_f64().value(),
+                mode: format!("{:?}", robot.mode).to_lowercase(),
+                obstacle: o.name.clone(),
+                x: at.x.to_f64().value(),
+                y: at.y.to_f64().value(),
+            });
+        }
+    })
+    .map_err(|e| anyhow::anyhow!("{}: the witness: {e}", path.display()))?;
+    if let Some(t) = trace {
+        write_file(t, trace_text(t, &rows)?.as_bytes())?;
+    }
+    let again = witness_record::record(&params, &behaviour, &replayed);
+    if json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&again)?)?;
+    } else {
+        let collides = if witness.collides {
+            "reaches the clearance"
+        } else {
+            "stays above the clearance"
+        };
+        writeln!(
+            out,
+            "{}: replayed the {} certificate's witness exactly over {} periods: {} closest at \
+             t = {} s, separation <= {} m ({collides}); the robot {}",
+            problem.name,
+            cert.verdict.as_str(),
+            witness.steps,
+            witness.obstacle,
+            value(witness.closest_at),
+            up(cert.upper_bound.unwrap_or(f64::NAN), 9),
+            match (&witness.brake_step, &witness.guard) {
+                (Some(k), Some(g)) => format!("brakes at step {k} ({g})"),
+                _ => "never brakes".to_string(),
+            }
+        )?;
+    }
+    Ok(if witness.collides {
+        Exit::Fail
+    } else {
+        Exit::Pass
+    })
+}
+
+/// One row of a planar replay's trace.
+#[derive(Serialize)]
+struct TraceRow {
+    step: usize,
+    t: f64,
+    robot_x: f64,
+    robot_y: f64,
+    robot_speed: f64,
+    mode: String,
+    obstacle: String,
+    x: f64,
+    y: f64,
+}
+
+fn trace_text(path: &Path, rows: &[TraceRow]) -> Result<String> {
+    if path.extension().is_some_and(|e| e == "jsonl") {
+        let mut s = String::new();
+        for r in rows {
+            s += &serde_json::to_string(r)?;
+            s.push('\n');
+        }
+        return Ok(s);
+    }
+    let mut s = String::from("step,t,robot_x,robot_y,robot_speed,mode,obstacle,x,y\n");
+    for r in rows {
+        s += &format!(
+            "{},{},{},{},{},{},{},{},{}\n",
+            r.step, r.t, r.robot_x, r.robot_y, r.robot_speed, r.mode, r.obstacle, r.x, r.y
+        );
+    }
+    Ok(s)
+}
+
+/// The certificate's problem, read from its stored text.
+fn certificate_problem(cert: &PlanarCertificate, path: &Path) -> Result<PlanarProblem> {
+    PlanarProblem::from_toml_str_with_overrides(
+        &cert.problem_toml,
+        &format!("{} (its problem)", path.display()),
+        &cert.overrides,
+    )
+    .map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Refuses a planar problem file that is not the planar certificate's problem.
+pub fn same_problem(
+    given: &PlanarProblem,
+    problem: &Path,
+    cert_path: &Path,
+    cert: &CertificateFile,
+) -> Result<()> {
+    let same = match cert {
+        CertificateFile::Planar(c) => certificate_problem(c, cert_path)? == *given,
+        _ => false,
+    };
+    anyhow::ensure!(
+        same,
+        "{}: not the problem of {}; leave the problem out to replay the certificate's own",
+        problem.display(),
+        cert_path.display()
+    );
+    Ok(())
 }

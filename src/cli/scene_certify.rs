@@ -48,7 +48,9 @@ pub fn run(
         match &cert {
             CertificateFile::Scene(c) => write!(out, "{}", summary(c, brake_time(&answer)))?,
             CertificateFile::Search(c) => write!(out, "{}", search_summary(c))?,
-            CertificateFile::Single(_) => unreachable!("a scene's answer is a scene certificate"),
+            CertificateFile::Single(_) | CertificateFile::Planar(_) => {
+                unreachable!("a scene's answer is a scene certificate")
+            }
         }
     }
     Ok(cert.verdict().into())

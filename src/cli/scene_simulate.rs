@@ -40,6 +40,9 @@ pub fn replay(
             "{}: a single-obstacle certificate, not a scene's",
             path.display(),
         ),
+        CertificateFile::Planar(_) => {
+            anyhow::bail!("{}: a planar certificate, not a scene's", path.display(),)
+        }
         CertificateFile::Scene(cert) => {
             let w = cert.witness.as_ref().with_context(no_witness)?;
             let starts: Vec<Exact> = params

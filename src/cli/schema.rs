@@ -12,6 +12,7 @@ use serde_json::{Value, json};
 use safereach::analysis::sweep::CellResult;
 use safereach::core::sweep_provenance::SweepProvenance;
 use safereach::proof::certificate::{Certificate, FORMAT};
+use safereach::proof::planar::certificate::{PLANAR_FORMAT, PlanarCertificate};
 use safereach::proof::region_map::{self, RegionMap};
 use safereach::proof::scene_certificate::{SCENE_FORMAT, SceneCertificate};
 use safereach::proof::search_certificate::{SEARCH_FORMAT, SearchCertificate};
@@ -62,6 +63,11 @@ pub fn schemas() -> Vec<(&'static str, &'static str, Schema)> {
             "search-certificate",
             "a scene certificate decided by the exact run search",
             tagged::<SearchCertificate>(SEARCH_FORMAT),
+        ),
+        (
+            "planar-certificate",
+            "a planar certificate (certify --out / --json on a planar problem)",
+            tagged::<PlanarCertificate>(PLANAR_FORMAT),
         ),
         (
             "region-map",

@@ -118,6 +118,9 @@ fn replay_certificate(path: &Path, args: &SimulateArgs, out: &mut Output) -> Res
         CertificateFile::Single(c) => replay(&c.problem, path, c, trace, args.json, out),
         CertificateFile::Scene(c) => scene_simulate::replay(&c.scene, path, &cert, args, out),
         CertificateFile::Search(c) => scene_simulate::replay(&c.scene, path, &cert, args, out),
+        CertificateFile::Planar(c) => {
+            super::planar_simulate::replay(c, path, trace, args.json, out)
+        }
     }
 }
 
@@ -127,12 +130,20 @@ fn same_problem(problem: &Path, cert_path: &Path, cert: &CertificateFile) -> Res
     let given = match input::problem_or_scene(problem, &[])? {
         Input::Problem(p) => serde_json::to_value(&p)?,
         Input::Scene(s) => serde_json::to_value(&s)?,
-        Input::Planar(_) => return Err(input::planar_unsupported(problem, "simulate --replay")),
+        Input::Planar(p) => {
+            return super::planar_simulate::same_problem(&p, problem, cert_path, cert);
+        }
     };
     let certified = match cert {
         CertificateFile::Single(c) => serde_json::to_value(&c.problem)?,
         CertificateFile::Scene(c) => serde_json::to_value(&c.scene)?,
         CertificateFile::Search(c) => serde_json::to_value(&c.scene)?,
+        CertificateFile::Planar(_) => anyhow::bail!(
+            "{}: not the problem of {} (a planar certificate); leave the problem out to \
+             replay the certificate's own",
+            problem.display(),
+            cert_path.display()
+        ),
     };
     if let Some((key, here, there)) = first_difference(&given, &certified, String::new()) {
         anyhow::bail!(

@@ -279,6 +279,11 @@ pub enum MonitorError {
     /// value missing or outside the box).
     #[error("{0}")]
     Region(String),
+    /// A planar certificate: the monitor checks traces along a line only (issue 36).
+    #[error(
+        "the certificate is for a planar problem; the monitor checks traces on a line only so far (issue 36)"
+    )]
+    Planar,
 }
 
 /// Refuses a verdict other than `certified`: its premises holding would guarantee nothing.

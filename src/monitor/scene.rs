@@ -99,6 +99,7 @@ impl Monitor {
             CertificateFile::Single(c) => Monitor::new(c),
             CertificateFile::Scene(c) => Monitor::for_scene(c),
             CertificateFile::Search(c) => Monitor::for_search(c),
+            CertificateFile::Planar(_) => Err(MonitorError::Planar),
         }
     }
 
@@ -119,6 +120,7 @@ impl Monitor {
                 max_obstacles,
                 max_obstacles as usize,
             ),
+            CertificateFile::Planar(_) => Err(MonitorError::Planar),
         }
     }
 

@@ -21,7 +21,6 @@
 //!    exceeds the clearance, `refuted` iff the witness collides.
 
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 
 use crate::core::model::Problem;
 pub use crate::proof::premise::{Premise, PremiseKind, premises};
@@ -95,8 +94,6 @@ impl Certificate {
     pub fn compute_digest(&self) -> String {
         let mut copy = self.clone();
         copy.digest.clear();
-        let text = serde_json::to_string(&copy).expect("certificates serialise");
-        let hash = Sha256::digest(text.as_bytes());
-        hash.iter().map(|b| format!("{b:02x}")).collect()
+        crate::proof::digest::json_sha256(&copy)
     }
 }

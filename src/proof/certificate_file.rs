@@ -1,5 +1,6 @@
-//! A certificate file of either kind, told apart by its `format` tag: a single-obstacle
-//! [`Certificate`], a [`SceneCertificate`] or a [`SearchCertificate`].
+//! A certificate file of any kind, told apart by its `format` tag: a single-obstacle
+//! [`Certificate`], a [`SceneCertificate`], a [`SearchCertificate`] or a
+//! [`PlanarCertificate`].
 
 use serde::Deserialize;
 
@@ -8,6 +9,8 @@ use crate::proof::json_read::from_json;
 #[cfg(doc)]
 use crate::proof::certificate::FORMAT;
 use crate::proof::certificate::{CheckReport, Invalid, check};
+use crate::proof::planar::certificate::{PLANAR_FORMAT, PlanarCertificate};
+use crate::proof::planar::check::check_planar;
 use crate::proof::scene_certificate::{SCENE_FORMAT, SceneCertificate};
 use crate::proof::scene_check::check_scene;
 use crate::proof::search_certificate::{SEARCH_FORMAT, SearchCertificate};
@@ -25,6 +28,8 @@ pub enum CertificateFile {
     Scene(Box<SceneCertificate>),
     /// A scene decided by the run search (`safereach-scene-search-certificate/4`).
     Search(Box<SearchCertificate>),
+    /// A planar problem (`safereach-planar-certificate/1`).
+    Planar(Box<PlanarCertificate>),
 }
 
 /// Format tags of earlier versions: their files lack fields today's check needs.
@@ -80,6 +85,9 @@ impl CertificateFile {
                 tag.format
             )));
         }
+        if tag.format == PLANAR_FORMAT {
+            return Ok(CertificateFile::Planar(Box::new(from_json(text)?)));
+        }
         if tag.format == SEARCH_FORMAT {
             return Ok(CertificateFile::Search(Box::new(from_json(text)?)));
         }
@@ -98,6 +106,7 @@ impl CertificateFile {
             CertificateFile::Single(c) => check(c),
             CertificateFile::Scene(c) => check_scene(c),
             CertificateFile::Search(c) => check_search(c),
+            CertificateFile::Planar(c) => check_planar(c),
         }
     }
 
@@ -107,6 +116,7 @@ impl CertificateFile {
             CertificateFile::Single(c) => c.verdict,
             CertificateFile::Scene(c) => c.verdict,
             CertificateFile::Search(c) => c.verdict,
+            CertificateFile::Planar(c) => c.verdict,
         }
     }
 
@@ -116,6 +126,7 @@ impl CertificateFile {
             CertificateFile::Single(c) => serde_json::to_string_pretty(c),
             CertificateFile::Scene(c) => serde_json::to_string_pretty(c),
             CertificateFile::Search(c) => serde_json::to_string_pretty(c),
+            CertificateFile::Planar(c) => serde_json::to_string_pretty(c),
         };
         text.expect("certificates serialise") + "\n"
     }

@@ -7,6 +7,7 @@
 pub mod approach_closed_form;
 pub mod certificate;
 pub mod certificate_file;
+pub mod digest;
 pub mod check;
 pub mod exact_speed_runs;
 pub mod json_read;

@@ -14,7 +14,6 @@
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 
 use crate::core::model::Problem;
 use crate::core::param_box::{Axis, ParamBox};
@@ -174,9 +173,7 @@ impl RegionMap {
     pub fn compute_digest(&self) -> String {
         let mut copy = self.clone();
         copy.digest.clear();
-        let text = serde_json::to_string(&copy).expect("maps serialise");
-        let hash = Sha256::digest(text.as_bytes());
-        hash.iter().map(|b| format!("{b:02x}")).collect()
+        crate::proof::digest::json_sha256(&copy)
     }
 
     /// The whole box.

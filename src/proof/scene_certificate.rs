@@ -7,7 +7,6 @@
 //! certificate proves empty — and recomputes every bound exactly.
 
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 
 use crate::core::model::{Environment, Problem};
 use crate::core::scene::Scene;
@@ -126,9 +125,7 @@ impl SceneCertificate {
     pub fn compute_digest(&self) -> String {
         let mut copy = self.clone();
         copy.digest.clear();
-        let text = serde_json::to_string(&copy).expect("certificates serialise");
-        let hash = Sha256::digest(text.as_bytes());
-        hash.iter().map(|b| format!("{b:02x}")).collect()
+        crate::proof::digest::json_sha256(&copy)
     }
 
     /// Pieces proved, over every obstacle.

@@ -11,7 +11,6 @@
 
 use crate::proof::exact_speed_runs::{ExactSpeedSegment, exact_speed_segments};
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 
 use crate::core::num::{Exact, Scalar, f64_at_most};
 use crate::core::rational::Rational;
@@ -136,9 +135,7 @@ impl SearchCertificate {
     pub fn compute_digest(&self) -> String {
         let mut copy = self.clone();
         copy.digest.clear();
-        let text = serde_json::to_string(&copy).expect("certificates serialise");
-        let hash = Sha256::digest(text.as_bytes());
-        hash.iter().map(|b| format!("{b:02x}")).collect()
+        crate::proof::digest::json_sha256(&copy)
     }
 }
 

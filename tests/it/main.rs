@@ -35,6 +35,7 @@ mod noise;
 mod pinning;
 mod planar_bound;
 mod planar_certify_cli;
+mod planar_check_cli;
 mod planar_input;
 mod planar_oracle;
 mod planar_replay;

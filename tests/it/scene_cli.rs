@@ -317,7 +317,7 @@ fn scene_witness_rows_only_with_steps() {
                 w.steps[k].row.robot_position += 1e-3;
                 c.digest = c.compute_digest();
             }
-            CertificateFile::Single(_) => unreachable!("a scene"),
+            CertificateFile::Single(_) | CertificateFile::Planar(_) => unreachable!("a scene"),
         }
         let e = forged.check().expect_err("an edited row");
         assert!(e.0.contains("trace differs"), "{name}: {e}");

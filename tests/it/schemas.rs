@@ -1,7 +1,7 @@
 //! The JSON Schemas in `schemas/`: current (what `safereach schema` derives from the types
 //! today), and every kind of JSON safereach writes validates against its schema —
-//! certificates of every shipped problem and fixture, region maps, sweep lines, monitor
-//! events and summaries — while edited JSON does not.
+//! certificates of every shipped problem and fixture (and a planar one), region maps, sweep
+//! lines, monitor events and summaries — while edited JSON does not.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -36,6 +36,7 @@ fn certificate_schema(json: &Value) -> &'static str {
         "safereach-certificate/3" => "certificate",
         "safereach-scene-certificate/5" => "scene-certificate",
         "safereach-scene-search-certificate/4" => "search-certificate",
+        "safereach-planar-certificate/1" => "planar-certificate",
         other => panic!("unknown certificate format {other}"),
     }
 }
@@ -76,7 +77,12 @@ fn the_shipped_schemas_are_what_the_types_derive() {
 #[test]
 fn every_certificate_validates_and_only_against_its_own_kind() {
     let dir = tmp();
-    let kinds = ["certificate", "scene-certificate", "search-certificate"];
+    let kinds = [
+        "certificate",
+        "scene-certificate",
+        "search-certificate",
+        "planar-certificate",
+    ];
     let mut seen = BTreeSet::new();
     let mut check = |json: Value, what: &str| {
         let own = certificate_schema(&json);
@@ -128,6 +134,17 @@ fn every_certificate_validates_and_only_against_its_own_kind() {
             &format!("seed {set:?}"),
         );
     }
+    // A planar problem's certificate (the fastest shipped one).
+    let out = safereach(dir.path())
+        .arg("certify")
+        .arg(root().join("problems/planar/crossing-car.toml"))
+        .arg("--json")
+        .output()
+        .unwrap();
+    check(
+        serde_json::from_slice(&out.stdout).unwrap(),
+        "planar crossing-car",
+    );
     for name in files(&root().join("tests/fixtures")) {
         if name.ends_with(".cert.json") {
             let json = serde_json::from_str(&fs::read_to_string(fixture(&name)).unwrap()).unwrap();
@@ -136,7 +153,7 @@ fn every_certificate_validates_and_only_against_its_own_kind() {
     }
     assert_eq!(
         seen.len(),
-        3,
+        kinds.len(),
         "every kind of certificate was produced: {seen:?}"
     );
 }

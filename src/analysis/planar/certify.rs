@@ -53,6 +53,9 @@ pub struct PlanarAnswer {
     pub exhausted: bool,
     /// Leaves the solver could not bound (given the floor instead).
     pub unsolved: usize,
+    /// Each bound run's goal and bound, with its leaves' proofs: what the certificate
+    /// stores.
+    pub runs: Vec<(Exact, LowerBound)>,
 }
 
 /// The planar verdict for `params`, s* bracketed to `tolerance` where the relaxation
@@ -75,8 +78,10 @@ pub fn certify_planar(
         programs: first.programs,
         exhausted: first.exhausted,
         unsolved: first.unsolved,
+        runs: Vec::new(),
     };
     consider(params, &first, &mut answer);
+    answer.runs.push((clearance.clone(), first));
     if let Some(u) = answer.upper.clone()
         && u > clearance
         && answer.lower < &u - tolerance
@@ -87,12 +92,15 @@ pub fn certify_planar(
         answer.programs += second.programs;
         answer.exhausted |= second.exhausted;
         answer.unsolved += second.unsolved;
-        above |= second.worst.is_none() || second.lower > clearance;
+        // Past its horizon this run proves only "above the goal": it shows every instant
+        // above the clearance only when its goal is not below the clearance.
+        above |= goal >= clearance && (second.worst.is_none() || second.lower > clearance);
         let l = claim(&second, &goal);
         if l > answer.lower {
             answer.lower = l;
         }
         consider(params, &second, &mut answer);
+        answer.runs.push((goal, second));
     }
     let collides = answer
         .witness
@@ -111,7 +119,7 @@ pub fn certify_planar(
 /// What a bound run with `goal` proves about every instant: min(bound, goal), or nothing
 /// the goal when it has no leaf (every instant is past the horizon or in an empty piece,
 /// so above the goal).
-fn claim(bound: &LowerBound, goal: &Exact) -> Exact {
+pub(super) fn claim(bound: &LowerBound, goal: &Exact) -> Exact {
     match &bound.worst {
         Some(_) if bound.lower <= *goal => bound.lower.clone(),
         _ => goal.clone(),

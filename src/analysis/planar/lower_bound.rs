@@ -21,9 +21,11 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use crate::core::num::Exact;
+use crate::core::num::{Exact, f64_at_most};
 use crate::core::planar::PlanarParams;
+use crate::proof::planar::certificate::{LeafProof, ObstacleLeaves};
 use crate::proof::planar::domain::{CoverPiece, DomainError, ObstacleDomain, PieceKind};
+use crate::proof::planar::tiling::{self, Split};
 
 use super::leaf_solve::{LeafBound, bound_leaf, strictly_empty};
 
@@ -87,6 +89,9 @@ pub struct LowerBound {
     /// Leaves the solver could not bound, each given the floor −(r_R + r_i + D) instead
     /// and split further (sound; the bound is loose only if one of them stays lowest).
     pub unsolved: usize,
+    /// Every obstacle's final leaves with their proofs, in the problem's order: what a
+    /// planar certificate stores for `check`.
+    pub proofs: Vec<ObstacleLeaves>,
 }
 
 /// Why no bound was proved.
@@ -106,6 +111,35 @@ struct Node {
     cover: CoverPiece,
     time_loss: Exact,
     arc_loss: Exact,
+    /// The index of the piece's initial cover set it refines, and the halvings since.
+    root: usize,
+    splits: Vec<Split>,
+    multipliers: Vec<f64>,
+}
+
+impl Node {
+    fn proof(&self) -> LeafProof {
+        LeafProof {
+            piece: self.piece,
+            cover: self.root,
+            splits: tiling::write(&self.splits),
+            empty: false,
+            multipliers: self.multipliers.clone(),
+            bound: Some(f64_at_most(&self.lower)),
+        }
+    }
+}
+
+/// An empty leaf's proof.
+fn empty_proof(piece: usize, root: usize, splits: &[Split], multipliers: Vec<f64>) -> LeafProof {
+    LeafProof {
+        piece,
+        cover: root,
+        splits: tiling::write(splits),
+        empty: true,
+        multipliers,
+        bound: None,
+    }
 }
 
 impl PartialEq for Node {
@@ -140,6 +174,7 @@ pub fn lower_bound(
         programs: 0,
         exhausted: false,
         unsolved: 0,
+        proofs: Vec::new(),
     };
     for i in 0..params.obstacles.len() {
         let one = obstacle_bound(params, i, goal, options)?;
@@ -147,6 +182,7 @@ pub fn lower_bound(
         total.exhausted |= one.exhausted;
         total.unsolved += one.unsolved;
         total.low.extend(one.low.iter().cloned());
+        total.proofs.extend(one.proofs);
         if one.lower < total.lower {
             total.lower = one.lower;
             total.worst = one.worst;
@@ -171,24 +207,35 @@ fn obstacle_bound(
     let mut above: Option<Exact> = None;
     let pieces = domain.pieces.clone();
     let floor = -domain.radii.clone();
+    // Leaves proved empty: they stay part of the tiling a certificate states.
+    let mut emptied: Vec<LeafProof> = Vec::new();
     let solve = |domain: &mut ObstacleDomain<'_>,
                  piece: usize,
-                 from: Exact,
-                 to: Exact,
-                 cover: CoverPiece,
-                 heap: &mut BinaryHeap<Node>| {
+                 (from, to, cover): (Exact, Exact, CoverPiece),
+                 (root, splits): (usize, Vec<Split>),
+                 heap: &mut BinaryHeap<Node>,
+                 emptied: &mut Vec<LeafProof>| {
         programs.set(programs.get() + 1);
         let leaf = domain.leaf(&pieces[piece], &from, &to, &cover);
-        let (lower, value, point) = match bound_leaf(&leaf) {
-            LeafBound::Empty => return,
+        let (lower, value, point, multipliers) = match bound_leaf(&leaf) {
+            LeafBound::Empty(z) => {
+                emptied.push(empty_proof(piece, root, &splits, z));
+                return;
+            }
             LeafBound::Lower {
                 lower,
                 value,
                 point,
-            } => (lower, value, point),
+                multipliers,
+            } => (lower, value, point, multipliers),
             LeafBound::Failed(_) => {
                 unsolved.set(unsolved.get() + 1);
-                (floor.clone(), floor.to_f64().value(), Vec::new())
+                (
+                    floor.clone(),
+                    floor.to_f64().value(),
+                    Vec::new(),
+                    Vec::new(),
+                )
             }
         };
         // A distance is never negative: no separation is below −(r_R + r_i).
@@ -212,12 +259,22 @@ fn obstacle_bound(
             cover,
             time_loss,
             arc_loss,
+            root,
+            splits,
+            multipliers,
         });
     };
     for (p, piece) in pieces.iter().enumerate() {
-        for cover in domain.initial_covers(piece) {
-            let (from, to) = (piece.from.clone(), piece.to.clone());
-            solve(&mut domain, p, from, to, cover, &mut heap);
+        for (root, cover) in domain.initial_covers(piece).into_iter().enumerate() {
+            let cell = (piece.from.clone(), piece.to.clone(), cover);
+            solve(
+                &mut domain,
+                p,
+                cell,
+                (root, Vec::new()),
+                &mut heap,
+                &mut emptied,
+            );
         }
     }
     let mut exhausted = false;
@@ -235,8 +292,9 @@ fn obstacle_bound(
             // About to stop on this leaf: drop it if only its closure is feasible.
             let leaf = domain.leaf(&pieces[node.piece], &node.from, &node.to, &node.cover);
             programs.set(programs.get() + 1);
-            if strictly_empty(&leaf) {
-                heap.pop();
+            if let Some(z) = strictly_empty(&leaf) {
+                let node = heap.pop().expect("peeked");
+                emptied.push(empty_proof(node.piece, node.root, &node.splits, z));
                 continue;
             }
         }
@@ -265,23 +323,32 @@ fn obstacle_bound(
             break;
         }
         let node = heap.pop().expect("peeked");
-        let children: Vec<(Exact, Exact, CoverPiece)> = if time_loss >= arc_loss {
-            let mid = (&node.from + &node.to) / Exact::from(2);
-            vec![
-                (node.from.clone(), mid.clone(), node.cover.clone()),
-                (mid, node.to.clone(), node.cover.clone()),
-            ]
+        // The halves as the certificate's checker rebuilds them (`tiling::Cell::child`).
+        let split: fn(u8) -> Split = if time_loss >= arc_loss {
+            Split::Time
         } else {
-            let CoverPiece::Arc(arc) = &node.cover else {
-                unreachable!("only an arc has an arc loss");
-            };
-            arc.halves()
-                .into_iter()
-                .map(|half| (node.from.clone(), node.to.clone(), CoverPiece::Arc(half)))
-                .collect()
+            Split::Arc
         };
-        for (from, to, cover) in children {
-            solve(&mut domain, node.piece, from, to, cover, &mut heap);
+        let parent = tiling::Cell {
+            from: node.from.clone(),
+            to: node.to.clone(),
+            cover: node.cover.clone(),
+        };
+        for half in [0, 1] {
+            let cell = parent
+                .child(split(half))
+                .expect("only an arc has an arc loss");
+            let mut splits = node.splits.clone();
+            splits.push(split(half));
+            let cell = (cell.from, cell.to, cell.cover);
+            solve(
+                &mut domain,
+                node.piece,
+                cell,
+                (node.root, splits),
+                &mut heap,
+                &mut emptied,
+            );
         }
     }
     let leaf = |node: &Node| WorstLeaf {
@@ -296,12 +363,21 @@ fn obstacle_bound(
     let lower = heap
         .peek()
         .map_or(Exact::from(i64::MAX), |n| n.lower.clone());
+    let obstacle_lower = heap.peek().map(|n| f64_at_most(&n.lower));
     let mut low = Vec::new();
-    while low.len() < LOW_LEAVES
-        && let Some(node) = heap.pop()
-    {
-        low.push(leaf(&node));
+    let mut leaves = emptied;
+    while let Some(node) = heap.pop() {
+        if low.len() < LOW_LEAVES {
+            low.push(leaf(&node));
+        }
+        leaves.push(node.proof());
     }
+    leaves.sort_by(|a, b| (a.piece, a.cover, &a.splits).cmp(&(b.piece, b.cover, &b.splits)));
+    let proofs = vec![ObstacleLeaves {
+        name: params.obstacles[index].name.clone(),
+        lower_bound: obstacle_lower,
+        leaves,
+    }];
     Ok(LowerBound {
         lower,
         worst: low.first().cloned(),
@@ -309,5 +385,6 @@ fn obstacle_bound(
         programs: programs.get(),
         exhausted,
         unsolved: unsolved.get(),
+        proofs,
     })
 }

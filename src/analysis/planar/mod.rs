@@ -2,12 +2,14 @@
 //! separation by anchored relaxation, one second-order cone program per leaf, refined by
 //! branch and bound where the bound is lowest.
 
+mod certificate;
 mod certify;
 mod leaf_solve;
 mod lower_bound;
 mod monte_carlo;
 mod witness;
 
+pub use certificate::{ProblemText, planar_certificate};
 pub use certify::{PlanarAnswer, PlanarVerdict, certify_planar};
 pub use leaf_solve::{LeafBound, bound_leaf};
 pub use lower_bound::{BoundOptions, LowerBound, LowerBoundError, WorstLeaf, lower_bound};

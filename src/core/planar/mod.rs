@@ -43,5 +43,5 @@ pub use file::{
 pub use params::{DangerZone, PlanarObstacle, PlanarParams, PlanarSensing, Start};
 pub use phases::{Phase, motion_phases};
 pub use pieces::{PathPiece, path_pieces};
-pub use replay::{BrakeEvent, PlanarGuard, PlanarReplay, PlanarRun, StepChoice, run};
+pub use replay::{BrakeEvent, PlanarGuard, PlanarReplay, PlanarRun, StepChoice, run, run_observed};
 pub use separation::Separation;

@@ -192,6 +192,17 @@ impl<'a> PlanarReplay<'a> {
         self.k
     }
 
+    /// The robot's state at the current step start (arc length along the path, speed,
+    /// mode).
+    pub fn robot(&self) -> &RobotState<Exact> {
+        &self.robot
+    }
+
+    /// The robot's centre at the current step start.
+    pub fn robot_centre(&self) -> Point {
+        self.params.path.point_at(&self.robot.position)
+    }
+
     /// Whether the robot is at rest for good (nothing later can move it).
     pub fn stopped(&self) -> bool {
         self.robot.mode == Mode::Stop
@@ -359,6 +370,16 @@ pub fn run(
     behaviour: &PlanarBehaviour,
     steps: usize,
 ) -> Result<PlanarRun, BehaviourError> {
+    run_observed(params, behaviour, steps, |_| {})
+}
+
+/// [`run`], showing `observe` the replay at every step start (and at the end): for traces.
+pub fn run_observed(
+    params: &PlanarParams,
+    behaviour: &PlanarBehaviour,
+    steps: usize,
+    mut observe: impl FnMut(&PlanarReplay<'_>),
+) -> Result<PlanarRun, BehaviourError> {
     behaviour.validate(params)?;
     let starts: Vec<Point> = behaviour
         .obstacles
@@ -378,7 +399,9 @@ pub fn run(
                 velocity_error: o.velocity_error(k),
             })
             .collect();
+        observe(&replay);
         replay.step(&choices)?;
     }
+    observe(&replay);
     Ok(replay.finish())
 }
