@@ -7,8 +7,8 @@
 pub mod approach_closed_form;
 pub mod certificate;
 pub mod certificate_file;
-pub mod digest;
 pub mod check;
+pub mod digest;
 pub mod exact_speed_runs;
 pub mod json_read;
 pub mod occlusion_schedule;

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use crate::common::cli::safereach;
+use crate::common::rational;
 
 fn problem(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("problems/planar/{name}.toml"))
@@ -57,13 +58,7 @@ fn the_crossing_car_is_refuted_by_a_colliding_witness() {
     let car = &r["witness"]["obstacles"][0];
     assert_eq!(car["name"], "car");
     // Exact rationals as text ("n/d").
-    let rational = |v: &serde_json::Value| -> f64 {
-        let text = v.as_str().expect("a rational's text");
-        match text.split_once('/') {
-            Some((n, d)) => n.parse::<f64>().unwrap() / d.parse::<f64>().unwrap(),
-            None => text.parse().unwrap(),
-        }
-    };
+    let rational = |v: &serde_json::Value| rational(v.as_str().expect("a rational's text"));
     for v in car["velocities"].as_array().expect("velocities") {
         let (vx, vy) = (rational(&v[0]), rational(&v[1]));
         assert!(vx.abs() < 1e-12 && (0.0..=10.0 + 1e-9).contains(&vy), "{v}");

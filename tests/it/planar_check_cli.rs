@@ -2,7 +2,8 @@
 //! re-verifies without the solver, and every edit a reader could make to win a verdict —
 //! a multiplier, a dropped leaf, a bound, the problem, the witness, the verdict — is named
 //! and refused, even with the digest recomputed. `simulate --replay` replays the witness,
-//! and its trace agrees with the certificate's bracket.
+//! and its trace agrees with the certificate's bracket. The pursuit witnesses of the
+//! overtaking jogger and the hidden pedestrian are held to what they claim to be.
 
 use std::path::{Path, PathBuf};
 
@@ -11,7 +12,7 @@ use safereach::proof::planar::certificate::PlanarCertificate;
 use safereach::proof::verdict::Verdict;
 
 use crate::common::cli::{safereach, stdout};
-use crate::common::tmp;
+use crate::common::{rational, tmp};
 
 fn problem(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("problems/planar/{name}.toml"))
@@ -202,4 +203,69 @@ fn simulate_replays_a_planar_certificate_and_its_trace_shows_the_collision() {
         .arg(&path)
         .assert()
         .code(2);
+}
+
+#[test]
+fn the_hidden_pedestrian_walks_into_the_robots_blind_side_while_it_drives() {
+    let dir = tmp();
+    let (path, cert) = certificate(dir.path(), "pedestrian-crossing", 1);
+    assert_eq!(cert.verdict, Verdict::Refuted);
+    // Full overlap is the floor -(0.3 + 0.3): the bracket pins s* there.
+    assert!(cert.lower_bound >= -0.6 - 1e-8, "{}", cert.lower_bound);
+    assert!(cert.upper_bound.unwrap() <= -0.6 + 1e-8);
+    safereach(dir.path())
+        .arg("check")
+        .arg(&path)
+        .args(["--require", "refuted"])
+        .assert()
+        .code(0);
+    // From the trace alone: at some step start the robot drives (speed > 0) with the
+    // pedestrian's centre within 0.6 m of its own, inside the crossing.
+    let trace = dir.path().join("trace.jsonl");
+    safereach(dir.path())
+        .arg("simulate")
+        .arg("--replay")
+        .arg(&path)
+        .arg("--trace")
+        .arg(&trace)
+        .assert()
+        .code(1);
+    let hit = std::fs::read_to_string(&trace)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+        .find(|r| {
+            let f = |k: &str| r[k].as_f64().unwrap();
+            f("robot_speed") > 0.0
+                && (f("robot_x") - f("x")).hypot(f("robot_y") - f("y")) <= 0.6
+                && (5.0..=7.0).contains(&f("x"))
+        });
+    assert!(hit.is_some(), "no step start shows the collision");
+}
+
+#[test]
+fn the_overtaking_jogger_stalks_below_the_assumed_speed_then_sprints() {
+    let dir = tmp();
+    let (_, cert) = certificate(dir.path(), "overtaking", 1);
+    assert_eq!(cert.verdict, Verdict::Refuted);
+    let w = cert.witness.as_ref().expect("a witness");
+    assert!(w.collides);
+    let speeds: Vec<f64> = w.obstacles[0]
+        .velocities
+        .iter()
+        .map(|[x, y]| rational(x).hypot(rational(y)))
+        .collect();
+    // Within W = 2.5 m/s throughout; the wrong-assumption guard (V_a = 1.4 m/s) never
+    // fires, since the robot brakes for danger.
+    assert!(speeds.iter().all(|s| *s <= 2.5 + 1e-12), "{speeds:?}");
+    assert!(
+        w.guard.as_deref() == Some("danger (jogger)"),
+        "{:?}",
+        w.guard
+    );
+    let sprint = speeds
+        .iter()
+        .position(|s| *s > 1.4 + 1e-9)
+        .expect("a sprint");
+    assert!(sprint > 0 && speeds[..sprint].iter().all(|s| *s <= 1.4));
 }

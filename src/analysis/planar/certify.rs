@@ -11,7 +11,8 @@ use crate::core::num::Exact;
 use crate::core::planar::PlanarParams;
 
 use super::lower_bound::{BoundOptions, LowerBound, LowerBoundError, lower_bound};
-use super::witness::{Witness, witness};
+use super::pursuit::pursuit_witness;
+use super::witness::{Witness, steps_after, witness};
 
 /// What the planar analysis decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,6 +82,7 @@ pub fn certify_planar(
         runs: Vec::new(),
     };
     consider(params, &first, &mut answer);
+    consider_pursuit(params, &mut answer);
     answer.runs.push((clearance.clone(), first));
     if let Some(u) = answer.upper.clone()
         && u > clearance
@@ -123,6 +125,26 @@ pub(super) fn claim(bound: &LowerBound, goal: &Exact) -> Exact {
     match &bound.worst {
         Some(_) if bound.lower <= *goal => bound.lower.clone(),
         _ => goal.clone(),
+    }
+}
+
+/// The most periods a pursuit is replayed for.
+const PURSUIT_STEPS: usize = 2000;
+
+/// Replays pursuit witnesses (`pursuit`) for as long as the robot takes to drive its path
+/// and brake, and keeps the least so far.
+fn consider_pursuit(params: &PlanarParams, answer: &mut PlanarAnswer) {
+    let m = &params.motion;
+    let drive = params.path.length() / &m.v_max + &m.v_max / &m.a;
+    let steps = steps_after(params, &drive).min(PURSUIT_STEPS);
+    let Some(found) = pursuit_witness(params, steps) else {
+        return;
+    };
+    if let Some(u) = found.upper()
+        && answer.upper.as_ref().is_none_or(|a| u < *a)
+    {
+        answer.upper = Some(u);
+        answer.witness = Some(found);
     }
 }
 

@@ -7,6 +7,7 @@ mod certify;
 mod leaf_solve;
 mod lower_bound;
 mod monte_carlo;
+mod pursuit;
 mod witness;
 
 pub use certificate::{ProblemText, planar_certificate};

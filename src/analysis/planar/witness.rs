@@ -173,7 +173,7 @@ fn full_speed(obstacle: &PlanarObstacle, towards: &Point) -> Option<Point> {
 }
 
 /// Enough steps past `t` for the robot to brake to rest from any speed, plus margin.
-fn steps_after(params: &PlanarParams, t: &Exact) -> usize {
+pub(super) fn steps_after(params: &PlanarParams, t: &Exact) -> usize {
     let m = &params.motion;
     let span = t + &m.v_max / &m.b_min + &m.dt * Exact::from(4 + 2 * m.L);
     (span / &m.dt).ceil().try_into().unwrap_or(0)

@@ -36,3 +36,11 @@ pub fn edit(text: &str, edits: &[(&str, &str)]) -> String {
 pub fn tmp() -> TempDir {
     tempfile::tempdir().expect("a temporary directory")
 }
+
+/// An exact rational's text (`"n"` or `"n/d"`, as certificates write them) as a float.
+pub fn rational(text: &str) -> f64 {
+    match text.split_once('/') {
+        Some((n, d)) => n.parse::<f64>().unwrap() / d.parse::<f64>().unwrap(),
+        None => text.parse().unwrap(),
+    }
+}
