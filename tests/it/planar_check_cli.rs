@@ -37,6 +37,16 @@ fn certificate(dir: &Path, name: &str, code: i32) -> (PathBuf, PlanarCertificate
     }
 }
 
+/// `check --require verdict` on `path` passes.
+fn check_requiring(dir: &Path, path: &Path, verdict: &str) {
+    safereach(dir)
+        .arg("check")
+        .arg(path)
+        .args(["--require", verdict])
+        .assert()
+        .code(0);
+}
+
 /// `cert` edited by `edit`, its digest recomputed, must fail `check` saying `why`.
 fn refused(cert: &PlanarCertificate, why: &str, edit: impl FnOnce(&mut PlanarCertificate)) {
     let mut c = cert.clone();
@@ -130,12 +140,7 @@ fn a_certified_planar_certificate_checks_and_its_goal_cannot_be_raised() {
     let dir = tmp();
     let (path, cert) = certificate(dir.path(), "seed-in-plane", 0);
     assert_eq!(cert.verdict, Verdict::Certified);
-    safereach(dir.path())
-        .arg("check")
-        .arg(&path)
-        .args(["--require", "certified"])
-        .assert()
-        .code(0);
+    check_requiring(dir.path(), &path, "certified");
     // The line's s* (0.33 m) is inside the checked bracket, stated to 1e-6.
     let s = cert.min_separation.expect("a bracket within tolerance");
     assert!(cert.lower_bound <= 0.33 + 1e-12 && 0.33 <= cert.upper_bound.unwrap() + 1e-12);
@@ -213,12 +218,7 @@ fn the_hidden_pedestrian_walks_into_the_robots_blind_side_while_it_drives() {
     // Full overlap is the floor -(0.3 + 0.3): the bracket pins s* there.
     assert!(cert.lower_bound >= -0.6 - 1e-8, "{}", cert.lower_bound);
     assert!(cert.upper_bound.unwrap() <= -0.6 + 1e-8);
-    safereach(dir.path())
-        .arg("check")
-        .arg(&path)
-        .args(["--require", "refuted"])
-        .assert()
-        .code(0);
+    check_requiring(dir.path(), &path, "refuted");
     // From the trace alone: at some step start the robot drives (speed > 0) with the
     // pedestrian's centre within 0.6 m of its own, inside the crossing.
     let trace = dir.path().join("trace.jsonl");
