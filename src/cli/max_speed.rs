@@ -52,7 +52,17 @@ pub fn run(args: MaxSpeedArgs, out: &mut Output) -> Result<Exit> {
         Input::Problem(p) => p,
         Input::Scene(_) if args.region => anyhow::bail!(super::radius::NO_SCENE_REGION),
         Input::Scene(scene) => return scene_max_speed(&scene, &args, out),
-        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "max-speed")),
+        Input::Planar(_) if args.region => anyhow::bail!(super::radius::NO_PLANAR_REGION),
+        Input::Planar(_) => {
+            return super::planar_boundary::max_speed(
+                &args.problem,
+                &args.sets,
+                args.obstacle.as_deref(),
+                args.out.as_deref(),
+                args.json,
+                out,
+            );
+        }
     };
     if args.obstacle.is_some() {
         anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");

@@ -26,6 +26,7 @@ mod max_speed;
 mod merge;
 mod monitor;
 mod output;
+mod planar_boundary;
 mod planar_certify;
 mod planar_simulate;
 mod radius;

@@ -1,28 +1,20 @@
 //! `safereach certify` on a planar problem: the verdict, the bracket on s*, the witness and
 //! the certificate (docs/semantics.md §13). The lower end is proved from the SOC duals in
 //! exact rationals; the upper end is a behaviour's exact replay; the certificate is checked
-//! by `proof::planar::check` before anything is printed, as `check` would.
+//! by `proof::planar::check` before anything is printed (`certify_text`), as `check` would.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use safereach::analysis::planar::{
-    BoundOptions, LowerBoundError, PlanarVerdict, ProblemText, certify_planar, planar_certificate,
-};
-use safereach::core::planar::PlanarProblem;
+use safereach::analysis::planar::{BoundaryError, PlanarVerdict, certify_text};
 use safereach::core::show::{down, up, value};
 use safereach::core::text_file;
-use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::planar::certificate::PlanarCertificate;
-use safereach::proof::planar::domain::DomainError;
 
 use super::exit::Exit;
 use super::output::{Output, write_file};
-
-/// The bracket the planar s* is refined to where the relaxation allows (issue 36: 1e-6).
-const TOLERANCE: f64 = 1e-6;
 
 /// Certifies the planar problem read from `path` with the overrides `sets`.
 pub fn run(
@@ -35,58 +27,36 @@ pub fn run(
     // The certificate stores the text it was read from, so `check` reads the same problem.
     let text = text_file::read_text(path, text_file::MAX_PROBLEM_BYTES)
         .map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
-    let problem =
-        PlanarProblem::from_toml_str_with_overrides(&text, &path.display().to_string(), sets)?;
-    let params = problem.params();
-    let tolerance = safereach::core::num::exact_decimal(TOLERANCE);
-    let options = BoundOptions::default();
-    let answer = certify_planar(&params, &options, &tolerance).map_err(|e| explain(path, e))?;
-    let stored = ProblemText {
-        toml: &text,
-        overrides: sets,
-    };
-    let cert = planar_certificate(
-        &stored,
-        &problem.name,
-        &params,
-        &answer,
-        &options,
-        TOLERANCE,
-    );
-    let cert = CertificateFile::Planar(Box::new(cert));
-    // Never print a verdict the exact checker would not accept.
-    cert.check()
-        .map_err(|e| anyhow::anyhow!("internal error: the certificate does not verify: {e}"))?;
-    let text = cert.to_json();
+    let (verdict, cert) =
+        certify_text(&text, &path.display().to_string(), sets).map_err(|e| explain(path, e))?;
+    let text = serde_json::to_string_pretty(&cert)? + "\n";
     if let Some(p) = out_path {
         write_file(p, text.as_bytes())?;
     }
-    let CertificateFile::Planar(c) = &cert else {
-        unreachable!("built above")
-    };
     if json {
         write!(out, "{text}")?;
     } else {
-        write!(out, "{}", summary(c))?;
+        write!(out, "{}", summary(&cert))?;
     }
-    Ok(match answer.verdict {
+    Ok(exit(verdict))
+}
+
+/// certify's exit code for a planar verdict: 0 certified, 1 refuted, 3 inconclusive.
+pub(super) fn exit(verdict: PlanarVerdict) -> Exit {
+    match verdict {
         PlanarVerdict::Certified => Exit::Pass,
         PlanarVerdict::Refuted => Exit::Fail,
         PlanarVerdict::Inconclusive => Exit::Inconclusive,
-    })
+    }
 }
 
-fn explain(path: &Path, e: LowerBoundError) -> anyhow::Error {
-    let why = match e {
-        LowerBoundError::Domain(DomainError::Unsupported(key)) => {
-            format!("{key} is not analysed by the planar engine yet (issue 36)")
-        }
-        LowerBoundError::Domain(DomainError::Unbounded) => "the path has no end and an \
-            obstacle can keep up with the robot without a bounded region: no finite horizon \
-            (give the robot a path that ends, or the obstacle a region)"
-            .to_string(),
-    };
-    anyhow::anyhow!("{}: {why}", path.display())
+/// A planar analysis error in the user's terms: a problem error as the reader names it
+/// (exit 2), anything else after the file's name.
+pub(super) fn explain(path: &Path, e: BoundaryError) -> anyhow::Error {
+    match e {
+        BoundaryError::Problem(p) => p.into(),
+        other => anyhow::anyhow!("{}: {other}", path.display()),
+    }
 }
 
 fn summary(r: &PlanarCertificate) -> String {

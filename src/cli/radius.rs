@@ -20,6 +20,9 @@ use super::output::{Output, create_dir, write_file};
 pub(super) const NO_SCENE_REGION: &str = "--region: region statements need region certificates, which cover single-obstacle \
      problems, not scenes, so far";
 
+/// Why `--region` refuses a planar problem.
+pub(super) const NO_PLANAR_REGION: &str = "--region: region statements cover single-obstacle problems on a line, not planar problems, so far";
+
 /// Arguments of `safereach radius`.
 #[derive(clap::Args)]
 pub struct RadiusArgs {
@@ -60,7 +63,18 @@ pub fn run(args: RadiusArgs, out: &mut Output) -> Result<Exit> {
         Input::Problem(p) => p,
         Input::Scene(_) if args.region => anyhow::bail!(NO_SCENE_REGION),
         Input::Scene(scene) => return scene_radius(&scene, &args, &speeds, out),
-        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "radius")),
+        Input::Planar(_) if args.region => anyhow::bail!(NO_PLANAR_REGION),
+        Input::Planar(_) => {
+            return super::planar_boundary::radius(
+                &args.problem,
+                &args.sets,
+                &speeds,
+                args.obstacle.as_deref(),
+                args.certificates.as_deref(),
+                args.json,
+                out,
+            );
+        }
     };
     if args.obstacle.is_some() {
         anyhow::bail!("--obstacle names an obstacle of a scene; this is a problem file");

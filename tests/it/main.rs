@@ -34,6 +34,7 @@ mod monitor_scene;
 mod noise;
 mod pinning;
 mod planar_bound;
+mod planar_boundary_cli;
 mod planar_certify_cli;
 mod planar_check_cli;
 mod planar_input;

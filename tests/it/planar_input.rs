@@ -319,7 +319,7 @@ fn the_cli_exits_2_naming_the_file_and_key_and_what_is_not_supported_yet() {
     bad_input_exits_2(d, "certify", Path::new("bad.toml"), &[(vec![], named)]);
     std::fs::write(d.join("good.toml"), BASE).unwrap();
     let good = Path::new("good.toml");
-    for command in ["radius", "explore"] {
+    for command in ["export-uppaal", "explore"] {
         let says = format!(
             "good.toml: planar problems are not supported by `safereach {command}` yet (issue 36)"
         );

@@ -101,6 +101,25 @@ pub enum LowerBoundError {
     Domain(DomainError),
 }
 
+impl std::fmt::Display for LowerBoundError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LowerBoundError::Domain(DomainError::Unsupported(key)) => {
+                write!(
+                    f,
+                    "{key} is not analysed by the planar engine yet (issue 36)"
+                )
+            }
+            LowerBoundError::Domain(DomainError::Unbounded) => write!(
+                f,
+                "the path has no end and an obstacle can keep up with the robot without a \
+                 bounded region: no finite horizon (give the robot a path that ends, or the \
+                 obstacle a region)"
+            ),
+        }
+    }
+}
+
 struct Node {
     lower: Exact,
     value: f64,

@@ -2,6 +2,7 @@
 //! separation by anchored relaxation, one second-order cone program per leaf, refined by
 //! branch and bound where the bound is lowest.
 
+mod boundary;
 mod certificate;
 mod certify;
 mod leaf_solve;
@@ -10,6 +11,10 @@ mod monte_carlo;
 mod pursuit;
 mod witness;
 
+pub use boundary::{
+    BoundaryError, PlanarBoundary, PlanarProbe, Safer, TOLERANCE, certify_at, certify_text,
+    planar_boundary,
+};
 pub use certificate::{ProblemText, planar_certificate};
 pub use certify::{PlanarAnswer, PlanarVerdict, certify_planar};
 pub use leaf_solve::{LeafBound, bound_leaf};
