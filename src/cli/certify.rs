@@ -38,6 +38,9 @@ pub struct CertifyArgs {
     /// horizon (a run search's witness keeps its exact speeds per period for now).
     #[arg(long)]
     steps: bool,
+    /// For a planar problem: draw the worst case seen from above into this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    plot: Option<PathBuf>,
 }
 
 /// Runs `safereach certify`: exit 0 certified, 1 refuted, 3 inconclusive.
@@ -52,12 +55,18 @@ pub fn run(args: CertifyArgs, out: &mut Output) -> Result<Exit> {
             return super::planar_certify::run(
                 &args.problem,
                 &args.sets,
-                &args.out,
+                (&args.out, &args.plot),
                 args.json,
                 out,
             );
         }
     };
+    if args.plot.is_some() {
+        anyhow::bail!(
+            "--plot draws a planar problem's worst case from above; {} is not a planar problem",
+            args.problem.display()
+        );
+    }
     let analysis = analysis::analyse(&problem).context("analysis failed")?;
     let cert = if args.steps {
         Certificate::from_analysis_with_steps(&analysis)

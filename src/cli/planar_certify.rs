@@ -20,7 +20,7 @@ use super::output::{Output, write_file};
 pub fn run(
     path: &Path,
     sets: &[String],
-    out_path: &Option<PathBuf>,
+    (out_path, plot): (&Option<PathBuf>, &Option<PathBuf>),
     json: bool,
     out: &mut Output,
 ) -> Result<Exit> {
@@ -32,6 +32,9 @@ pub fn run(
     let text = serde_json::to_string_pretty(&cert)? + "\n";
     if let Some(p) = out_path {
         write_file(p, text.as_bytes())?;
+    }
+    if let Some(file) = plot {
+        super::planar_plot::plot_witness(&cert, &path.display().to_string(), file)?;
     }
     if json {
         write!(out, "{text}")?;

@@ -8,9 +8,8 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use safereach::analysis::planar::planar_monte_carlo;
-use safereach::core::num::Exact;
-use safereach::core::planar::{PlanarProblem, run_observed};
+use safereach::analysis::planar::{PlanarTraceRow, planar_monte_carlo, planar_trace};
+use safereach::core::planar::PlanarProblem;
 use safereach::core::show::{up, value};
 use safereach::proof::certificate_file::CertificateFile;
 use safereach::proof::planar::certificate::PlanarCertificate;
@@ -103,26 +102,8 @@ pub fn replay(
     })?;
     let behaviour = witness_record::behaviour(&params, witness)
         .map_err(|e| anyhow::anyhow!("{}: the witness: {e}", path.display()))?;
-    let mut rows = Vec::new();
-    let replayed = run_observed(&params, &behaviour, witness.steps, |r| {
-        let robot = r.robot();
-        let centre = r.robot_centre();
-        for (i, o) in params.obstacles.iter().enumerate() {
-            let at = r.centre(i);
-            rows.push(TraceRow {
-                step: r.k(),
-                t: (Exact::from(r.k()) * &params.motion.dt).to_f64().value(),
-                robot_x: centre.x.to_f64().value(),
-                robot_y: centre.y.to_f64().value(),
-                robot_speed: robot.speed.to_f64().value(),
-                mode: format!("{:?}", robot.mode).to_lowercase(),
-                obstacle: o.name.clone(),
-                x: at.x.to_f64().value(),
-                y: at.y.to_f64().value(),
-            });
-        }
-    })
-    .map_err(|e| anyhow::anyhow!("{}: the witness: {e}", path.display()))?;
+    let (rows, replayed) = planar_trace(&params, &behaviour, witness.steps)
+        .map_err(|e| anyhow::anyhow!("{}: the witness: {e}", path.display()))?;
     if let Some(t) = trace {
         write_file(t, trace_text(t, &rows)?.as_bytes())?;
     }
@@ -158,21 +139,7 @@ pub fn replay(
     })
 }
 
-/// One row of a planar replay's trace.
-#[derive(Serialize)]
-struct TraceRow {
-    step: usize,
-    t: f64,
-    robot_x: f64,
-    robot_y: f64,
-    robot_speed: f64,
-    mode: String,
-    obstacle: String,
-    x: f64,
-    y: f64,
-}
-
-fn trace_text(path: &Path, rows: &[TraceRow]) -> Result<String> {
+fn trace_text(path: &Path, rows: &[PlanarTraceRow]) -> Result<String> {
     if path.extension().is_some_and(|e| e == "jsonl") {
         let mut s = String::new();
         for r in rows {

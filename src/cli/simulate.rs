@@ -51,6 +51,10 @@ pub struct SimulateArgs {
     /// Write the replayed run (or the random run that came closest): CSV, or JSON Lines for .jsonl.
     #[arg(long, value_name = "FILE")]
     pub(super) trace: Option<PathBuf>,
+    /// With --replay of a planar certificate: draw the witness seen from above into this
+    /// SVG file.
+    #[arg(long, value_name = "FILE.svg", requires = "replay")]
+    pub(super) plot: Option<PathBuf>,
     /// Print JSON.
     #[arg(long)]
     pub(super) json: bool,
@@ -114,6 +118,16 @@ fn replay_certificate(path: &Path, args: &SimulateArgs, out: &mut Output) -> Res
         same_problem(problem, path, &cert)?;
     }
     let trace = args.trace.as_deref();
+    match (&cert, &args.plot) {
+        (CertificateFile::Planar(c), Some(file)) => {
+            super::planar_plot::plot_witness(c, &path.display().to_string(), file)?;
+        }
+        (_, Some(_)) => anyhow::bail!(
+            "--plot draws a planar certificate's witness from above; {} is not one",
+            path.display()
+        ),
+        _ => {}
+    }
     match &cert {
         CertificateFile::Single(c) => replay(&c.problem, path, c, trace, args.json, out),
         CertificateFile::Scene(c) => scene_simulate::replay(&c.scene, path, &cert, args, out),

@@ -269,3 +269,55 @@ fn the_overtaking_jogger_stalks_below_the_assumed_speed_then_sprints() {
         .expect("a sprint");
     assert!(sprint > 0 && speeds[..sprint].iter().all(|s| *s <= 1.4));
 }
+
+#[test]
+fn the_worst_case_is_drawn_from_above_with_its_legend_and_scale() {
+    let dir = tmp();
+    let svg = dir.path().join("worst.svg");
+    safereach(dir.path())
+        .arg("certify")
+        .arg(problem("crossing-car"))
+        .arg("--plot")
+        .arg(&svg)
+        .assert()
+        .code(1);
+    let text = std::fs::read_to_string(&svg).expect("the figure was written");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let texts: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text().map(str::to_string))
+        .collect();
+    for needed in [
+        "path",
+        "car",
+        "x (m)",
+        "y (m)",
+        "closest approach (filled discs)",
+    ] {
+        assert!(
+            texts.iter().any(|t| t == needed),
+            "no {needed:?} in {texts:?}"
+        );
+    }
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.ends_with(" m") && t.parse::<f64>().is_err())
+    );
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.starts_with("closest: separation -1.2084")),
+        "{texts:?}"
+    );
+    // A line problem has no top view: named, exit 2.
+    let seed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("problems/seed.toml");
+    safereach(dir.path())
+        .arg("certify")
+        .arg(seed)
+        .arg("--plot")
+        .arg(&svg)
+        .assert()
+        .code(2);
+}

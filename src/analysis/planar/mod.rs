@@ -9,6 +9,7 @@ mod leaf_solve;
 mod lower_bound;
 mod monte_carlo;
 mod pursuit;
+mod trace;
 mod witness;
 
 pub use boundary::{
@@ -20,4 +21,5 @@ pub use certify::{PlanarAnswer, PlanarVerdict, certify_planar};
 pub use leaf_solve::{LeafBound, bound_leaf};
 pub use lower_bound::{BoundOptions, LowerBound, LowerBoundError, WorstLeaf, lower_bound};
 pub use monte_carlo::{ClosestRun, PlanarMonteCarlo, planar_monte_carlo};
+pub use trace::{PlanarTraceRow, planar_trace};
 pub use witness::{Witness, witness};

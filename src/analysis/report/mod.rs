@@ -29,10 +29,12 @@ mod markdown;
 mod palette;
 pub mod region_plot;
 mod svg;
+mod top_view;
 
 pub use certified_map::certified_map;
 pub use curve::{Curve, SliceCurve, radius_curve};
 pub use markdown::grid_report;
+pub use top_view::{TopViewLabels, top_view};
 
 const SPEED_KEY: &str = "environment.obstacle_speed";
 const RADIUS_KEY: &str = "controller.reaction_radius";

@@ -110,6 +110,15 @@ impl Svg {
         );
     }
 
+    /// A circle of radius `r` at fractional coordinates (one decimal); `attrs` as for
+    /// [`Svg::circle`].
+    pub(super) fn disc(&mut self, cx: f64, cy: f64, r: f64, fill: &str, attrs: &str) {
+        let _ = writeln!(
+            self.out,
+            "<circle cx=\"{cx:.1}\" cy=\"{cy:.1}\" r=\"{r:.1}\" fill=\"{fill}\"{attrs}/>"
+        );
+    }
+
     /// The finished document.
     pub(super) fn finish(mut self) -> String {
         self.out.push_str("</svg>\n");
