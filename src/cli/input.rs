@@ -20,9 +20,8 @@ pub enum Input {
     Problem(Problem),
     /// A scene file (or a problem file whose overrides make it a scene, e.g. `robot.goal`).
     Scene(Scene),
-    /// A planar problem file (docs/semantics.md §13). No command reads it yet: each says so
-    /// (issue 36) until its planar engine lands.
-    #[allow(dead_code)]
+    /// A planar problem file (docs/semantics.md §13): certify, simulate, radius and
+    /// max-speed answer it; the other commands say they do not yet (issue 36).
     Planar(PlanarProblem),
 }
 
