@@ -28,6 +28,7 @@ mod monitor;
 mod output;
 mod planar_boundary;
 mod planar_certify;
+mod planar_monitor;
 mod planar_plot;
 mod planar_simulate;
 mod radius;

@@ -39,6 +39,7 @@ use serde::Serialize;
 use safereach::core::parameter::Parameter;
 use safereach::core::show::value;
 use safereach::monitor::bag::{BagOptions, BagReader, BagStats, LaneAxis, SpeedSource};
+use safereach::monitor::planar::PlaneSummary;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Ids, Line, Lines, MAX_LINE};
 use safereach::monitor::{
     Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
@@ -59,14 +60,14 @@ pub struct MonitorArgs {
     /// Certificate whose premises are checked (JSON, as written by `certify --out`: a single
     /// obstacle's or a scene's), or a region map (`region --out`).
     #[arg(long, value_name = "CERT")]
-    certificate: PathBuf,
+    pub(super) certificate: PathBuf,
     /// Trace to check: a CSV or JSON Lines file, or `-` for standard input (live).
     #[arg(value_name = "TRACE")]
-    trace: PathBuf,
+    pub(super) trace: PathBuf,
     /// Trace format [default: by extension (.csv, .jsonl, .mcap), else by the first line;
     /// a bag on standard input needs --format mcap].
     #[arg(long, value_enum, value_name = "FORMAT")]
-    format: Option<FormatArg>,
+    pub(super) format: Option<FormatArg>,
     /// MCAP bag: the robot's nav_msgs/msg/Odometry topic [default: /odom].
     #[arg(long, value_name = "TOPIC", help_heading = "ROS 2 bags")]
     robot_topic: Option<String>,
@@ -101,23 +102,23 @@ pub struct MonitorArgs {
     ground_truth: bool,
     /// Print violation events and the summary as JSON, one object per line.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     /// The CSV has no header line; these are its columns, comma-separated
     /// (e.g. t,robot_x,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_v).
     #[arg(long, value_name = "NAMES")]
-    columns: Option<String>,
+    pub(super) columns: Option<String>,
     /// Print only violation events and the summary, no verdict line per sample.
     #[arg(long)]
-    events_only: bool,
+    pub(super) events_only: bool,
     /// With a region map as CERT: monitor against this certified leaf (its `path` in the
     /// map) instead of the whole box, which must otherwise be certified.
     #[arg(long, value_name = "PATH")]
-    leaf: Option<String>,
+    pub(super) leaf: Option<String>,
     /// With a region map as CERT: the value the robot's controller uses for a ranged
     /// controller key (controller.reaction_radius, controller.assumed_obstacle_speed,
     /// controller.buffer); repeatable. Unnamed, ρ and the buffer take the box's lower ends.
     #[arg(long = "at", value_name = "KEY=VALUE")]
-    at: Vec<String>,
+    pub(super) at: Vec<String>,
 }
 
 /// The monitor of `--certificate`: a certificate of any kind, or a region map with the box
@@ -166,7 +167,7 @@ fn controller_value(pair: &str) -> Result<(Parameter, f64), String> {
 
 /// `--format`.
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum FormatArg {
+pub(super) enum FormatArg {
     /// CSV with a header.
     Csv,
     /// JSON Lines.
@@ -316,6 +317,16 @@ impl Session {
 
 /// Runs `safereach monitor`: exit 0 every premise held, 1 a violation.
 pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
+    if let Some(cert) = super::planar_monitor::planar_certificate(&args)? {
+        anyhow::ensure!(
+            !is_bag(&args),
+            "{}: ROS 2 bags are not read against planar certificates yet; give the trace as CSV \
+             or JSON Lines with robot_y and obstacle_y columns",
+            args.trace.display()
+        );
+        no_bag_flags(&args)?;
+        return super::planar_monitor::run(&args, &cert, out);
+    }
     if is_bag(&args) {
         return run_bag(&args, out);
     }
@@ -464,12 +475,28 @@ fn finish(
     out: &mut impl Write,
     origin: &str,
 ) -> Result<Exit> {
-    let summary = monitor.summary();
+    finish_with(
+        &monitor.summary(),
+        monitor.checked_anything(),
+        printer,
+        out,
+        origin,
+    )
+}
+
+/// [`finish`] with the summary given (of any monitor).
+pub(super) fn finish_with(
+    summary: &Summary,
+    checked: bool,
+    printer: &Printer,
+    out: &mut impl Write,
+    origin: &str,
+) -> Result<Exit> {
     printer
-        .summary(out, &summary, monitor.checked_anything())
+        .summary(out, summary, checked)
         .and_then(|()| out.flush())
         .context("writing the output")?;
-    if !monitor.checked_anything() {
+    if !checked {
         eprintln!("error: {origin}: nothing was checked: the trace has no readable sample");
         return Ok(Exit::Error);
     }
@@ -487,7 +514,7 @@ struct First {
     obstacle: Option<String>,
 }
 
-struct Printer {
+pub(super) struct Printer {
     json: bool,
     per_sample: bool,
     first: Option<First>,
@@ -576,6 +603,9 @@ pub(crate) struct SummaryJson<'a> {
     /// Only under a scene certificate (a single obstacle's summary is as it was).
     #[serde(skip_serializing_if = "Option::is_none")]
     scene: Option<&'a SceneSummary>,
+    /// Only under a planar certificate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    plane: Option<&'a PlaneSummary>,
 }
 
 /// An obstacle's name as the trace wrote it.
@@ -584,7 +614,7 @@ fn obstacle_name<'d>(ids: &'d Ids, e: &Event) -> Option<&'d str> {
 }
 
 impl Printer {
-    fn new(args: &MonitorArgs, place: &'static str) -> Printer {
+    pub(super) fn new(args: &MonitorArgs, place: &'static str) -> Printer {
         Printer {
             json: args.json,
             per_sample: !args.json && !args.events_only,
@@ -594,7 +624,7 @@ impl Printer {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn sample(
+    pub(super) fn sample(
         &mut self,
         out: &mut impl Write,
         ids: &Ids,
@@ -715,6 +745,9 @@ impl Printer {
         if let Some(scene) = &s.scene {
             scene_summary(out, scene)?;
         }
+        if let Some(plane) = &s.plane {
+            plane_summary(out, plane)?;
+        }
         let fail_safe: Vec<String> = s
             .fail_safe
             .iter()
@@ -746,6 +779,7 @@ fn summary_json(
         first_violation: first.map(|(e, f)| EventJson::new(e, f.obstacle.as_deref(), f.line)),
         premises: &s.premises,
         scene: s.scene.as_ref(),
+        plane: s.plane.as_ref(),
         fail_safe: s
             .fail_safe
             .iter()
@@ -787,6 +821,31 @@ fn scene_summary(out: &mut impl Write, scene: &SceneSummary) -> io::Result<()> {
         out,
         "unmatched objects: {} (checked against the largest moving bound, in any lane)",
         scene.unmatched
+    )
+}
+
+/// The planar part of the text summary: the planar checks, then the certificate's
+/// obstacles and how many tracked objects matched none.
+fn plane_summary(out: &mut impl Write, plane: &PlaneSummary) -> io::Result<()> {
+    writeln!(out, "planar checks:")?;
+    checks_text(out, &plane.checks)?;
+    writeln!(
+        out,
+        "planar obstacles (matched to trace obstacle ids by name):"
+    )?;
+    for o in &plane.obstacles {
+        let assumed = format!("r {} m, W {} m/s", value(o.radius), value(o.max_speed));
+        let seen = match (o.seen, o.violations) {
+            (false, _) => "not seen".to_string(),
+            (true, 0) => "seen".to_string(),
+            (true, n) => format!("seen, {}", plural(n, "violation")),
+        };
+        writeln!(out, "  {:<21} {assumed:<24} {seen}", o.name)?;
+    }
+    writeln!(
+        out,
+        "unmatched objects: {} (uncertified; checked against the largest speed bound)",
+        plane.unmatched
     )
 }
 

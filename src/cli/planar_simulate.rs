@@ -148,11 +148,25 @@ fn trace_text(path: &Path, rows: &[PlanarTraceRow]) -> Result<String> {
         }
         return Ok(s);
     }
-    let mut s = String::from("step,t,robot_x,robot_y,robot_speed,mode,obstacle,x,y\n");
+    let mut s = String::from(
+        "t,robot_x,robot_y,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_y,obstacle_vx,\
+         obstacle_vy,step\n",
+    );
+    let cell = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{}\n",
-            r.step, r.t, r.robot_x, r.robot_y, r.robot_speed, r.mode, r.obstacle, r.x, r.y
+            "{},{},{},{},{},{},{},{},{},{},{}\n",
+            r.t,
+            r.robot_x,
+            r.robot_y,
+            r.robot_speed,
+            r.mode,
+            r.obstacle,
+            r.x,
+            r.y,
+            cell(r.vx),
+            cell(r.vy),
+            r.step
         );
     }
     Ok(s)

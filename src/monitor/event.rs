@@ -92,6 +92,14 @@ pub enum Detail {
     AboveAcceleration,
     /// `observation_dropout`: the obstacle was last seen inside the reaction area.
     Dropout,
+    /// `observation_dropout` (planar): the obstacle was last seen where it stays in view
+    /// until the next instant (all-round sensing, within range).
+    DropoutInView,
+    /// `uncertified_obstacle`: the certificate has no obstacle of the object's name.
+    NotInCertificate,
+    /// `controller_reaction` (planar): the robot drives on where braking at b no longer
+    /// stops it before its path's end (the destination guard).
+    Destination,
     /// `robot_motion`: the robot moved (m) while its mode (`stop` or `idle`) says it stands.
     MovedWhileStanding,
     /// `robot_motion`: the robot moved (m) farther than its speeds and mode allow.
@@ -174,6 +182,15 @@ impl fmt::Display for Detail {
             Detail::AboveAcceleration => f.write_str("robot acceleration (m/s^2) above a"),
             Detail::Dropout => f.write_str(
                 "last observed gap (m) inside the reaction radius rho, and the next instant came without this obstacle",
+            ),
+            Detail::DropoutInView => f.write_str(
+                "last observed separation (m) where the obstacle stays in view (all-round sensing, within range) until the next instant, which came without it",
+            ),
+            Detail::NotInCertificate => f.write_str(
+                "the certificate has no obstacle of this name, so its proof says nothing about this object",
+            ),
+            Detail::Destination => f.write_str(
+                "the arc length (m) at which braking at b stops the robot is at or beyond its path's end, and it did not brake",
             ),
             Detail::MovedWhileStanding => f.write_str(
                 "robot displacement (m) since the previous instant, in mode stop or idle, which stands still",

@@ -3,7 +3,8 @@
 //! name the field that is wrong).
 //!
 //! The lane columns (`robot_lane`, `obstacle_lane`, `leaving_lane`) are those of scene
-//! traces; a trace without them reads as before.
+//! traces, and the planar columns (`robot_y`, `obstacle_y`, `obstacle_vx`, `obstacle_vy`)
+//! those of planar traces; a trace without them reads as before.
 
 use std::fmt;
 
@@ -32,11 +33,19 @@ pub enum Field {
     ObstacleLane,
     /// `leaving_lane` (scene traces)
     LeavingLane,
+    /// `robot_y` (planar traces: the robot's centre is (`robot_x`, `robot_y`))
+    RobotY,
+    /// `obstacle_y` (planar traces: the obstacle's centre is (`obstacle_x`, `obstacle_y`))
+    ObstacleY,
+    /// `obstacle_vx` (planar traces: the obstacle's velocity over the period that ends at `t`)
+    ObstacleVx,
+    /// `obstacle_vy` (planar traces)
+    ObstacleVy,
 }
 
 impl Field {
     /// Every column, required ones first.
-    pub const ALL: [Field; 11] = [
+    pub const ALL: [Field; 15] = [
         Field::T,
         Field::RobotX,
         Field::RobotV,
@@ -48,6 +57,10 @@ impl Field {
         Field::RobotLane,
         Field::ObstacleLane,
         Field::LeavingLane,
+        Field::RobotY,
+        Field::ObstacleY,
+        Field::ObstacleVx,
+        Field::ObstacleVy,
     ];
 
     /// The column's name in traces.
@@ -64,6 +77,10 @@ impl Field {
             Field::RobotLane => "robot_lane",
             Field::ObstacleLane => "obstacle_lane",
             Field::LeavingLane => "leaving_lane",
+            Field::RobotY => "robot_y",
+            Field::ObstacleY => "obstacle_y",
+            Field::ObstacleVx => "obstacle_vx",
+            Field::ObstacleVy => "obstacle_vy",
         }
     }
 

@@ -161,12 +161,13 @@ mod check;
 mod event;
 mod field;
 mod lanes;
+pub mod planar;
 mod region;
 mod scene;
 mod summary;
 pub mod trace;
 
-pub use check::{BehaviourCheck, Bounds, Check, FailSafe, SceneCheck};
+pub use check::{BehaviourCheck, Bounds, Check, FailSafe, PlaneCheck, SceneCheck};
 use check::{Carried, Fast, Motion};
 use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
@@ -279,9 +280,10 @@ pub enum MonitorError {
     /// value missing or outside the box).
     #[error("{0}")]
     Region(String),
-    /// A planar certificate: the monitor checks traces along a line only (issue 36).
+    /// A planar certificate given to the line's monitor: [`planar::PlanarMonitor`] checks
+    /// those.
     #[error(
-        "the certificate is for a planar problem; the monitor checks traces on a line only so far (issue 36)"
+        "the certificate is for a planar problem: its traces are checked by the planar monitor (monitor::planar::PlanarMonitor)"
     )]
     Planar,
 }

@@ -124,6 +124,9 @@ pub struct Summary {
     /// single-obstacle certificate, whose summary is as it always was).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scene: Option<SceneSummary>,
+    /// Under a planar certificate: the planar checks and the certificate's obstacles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plane: Option<super::planar::PlaneSummary>,
 }
 
 /// What a scene certificate's monitor adds to the [`Summary`].
@@ -233,6 +236,7 @@ impl Monitor {
                 })
                 .collect(),
             scene: self.scene_summary(),
+            plane: None,
         }
     }
 

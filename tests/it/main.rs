@@ -38,6 +38,8 @@ mod planar_boundary_cli;
 mod planar_certify_cli;
 mod planar_check_cli;
 mod planar_input;
+mod planar_monitor;
+mod planar_monitor_cli;
 mod planar_oracle;
 mod planar_replay;
 mod plane_geometry;

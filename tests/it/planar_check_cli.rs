@@ -178,15 +178,18 @@ fn simulate_replays_a_planar_certificate_and_its_trace_shows_the_collision() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("step,t,robot_x,robot_y,robot_speed,mode,obstacle,x,y")
+        Some(
+            "t,robot_x,robot_y,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_y,obstacle_vx,\
+             obstacle_vy,step"
+        )
     );
     let mut least = f64::INFINITY;
     let mut rows = 0;
     for line in lines {
         let f: Vec<&str> = line.split(',').collect();
         let n = |i: usize| f[i].parse::<f64>().unwrap();
-        let d = (n(2) - n(7)).hypot(n(3) - n(8)) - 1.3;
-        if f[5] != "stop" {
+        let d = (n(1) - n(6)).hypot(n(2) - n(7)) - 1.3;
+        if f[4] != "stop" {
             least = least.min(d);
         }
         rows += 1;
@@ -236,9 +239,9 @@ fn the_hidden_pedestrian_walks_into_the_robots_blind_side_while_it_drives() {
         .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
         .find(|r| {
             let f = |k: &str| r[k].as_f64().unwrap();
-            f("robot_speed") > 0.0
-                && (f("robot_x") - f("x")).hypot(f("robot_y") - f("y")) <= 0.6
-                && (5.0..=7.0).contains(&f("x"))
+            f("robot_v") > 0.0
+                && (f("robot_x") - f("obstacle_x")).hypot(f("robot_y") - f("obstacle_y")) <= 0.6
+                && (5.0..=7.0).contains(&f("obstacle_x"))
         });
     assert!(hit.is_some(), "no step start shows the collision");
 }

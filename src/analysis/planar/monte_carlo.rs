@@ -54,7 +54,7 @@ pub fn planar_monte_carlo(
     let clearance = &params.motion.clearance;
     let results: Vec<ClosestRun> = (0..runs)
         .into_par_iter()
-        .filter_map(|i| one_run(params, seed.wrapping_add(i as u64), steps, clearance))
+        .filter_map(|i| random_run(params, seed.wrapping_add(i as u64), steps, clearance))
         .collect();
     let collisions = results.iter().filter(|r| r.collided).count();
     let closest = results
@@ -67,7 +67,9 @@ pub fn planar_monte_carlo(
     }
 }
 
-fn one_run(
+/// One random run seeded `seed`, at most `steps` periods, judged against `clearance` (None:
+/// the random starts or choices are not a behaviour of the problem, or no obstacle).
+pub fn random_run(
     params: &PlanarParams,
     seed: u64,
     steps: usize,

@@ -19,6 +19,22 @@ fn braking_not_monitored(carried: Carried) -> Option<&'static str> {
     (!carried.mode).then_some("no sample carried robot_mode, so braking cannot be recognised")
 }
 
+/// The deceleration from speed `v0` to `v1` over `step` (the rounding of which is
+/// `step_rounding`), and whether it falls short of `b` beyond [`RELATIVE_TOLERANCE`] and
+/// the rounding of the speeds and times it is computed from.
+#[inline]
+pub(in crate::monitor) fn deceleration(
+    v0: f64,
+    v1: f64,
+    step: f64,
+    b: f64,
+    step_rounding: f64,
+) -> (f64, bool) {
+    let decel = (v0 - v1) / step;
+    let slack = RELATIVE_TOLERANCE * b + (rounding(v0, v1) + b * step_rounding) / step;
+    (decel, decel < b - slack)
+}
+
 impl Monitor {
     /// `braking_deceleration` over the step from the previous instant `r` to the sample's.
     /// Whether it held (or was not due): `robot_motion` bounds the step by braking at b only
@@ -34,13 +50,10 @@ impl Monitor {
             self.count(Check::BrakingDeceleration);
             return true;
         }
-        let step = s.t - r.t;
         let b = self.bounds.braking_deceleration;
-        let decel = (r.v - s.robot_v) / step;
+        let (decel, short) = deceleration(r.v, s.robot_v, s.t - r.t, b, rounding(r.t, s.t));
         self.count_with_slack(Check::BrakingDeceleration, decel - b, s.t);
-        let slack =
-            RELATIVE_TOLERANCE * b + (rounding(r.v, s.robot_v) + b * rounding(r.t, s.t)) / step;
-        if decel < b - slack {
+        if short {
             self.raise(
                 Violation::at(Check::BrakingDeceleration, s)
                     .observed(decel)

@@ -33,19 +33,22 @@ mod input;
 mod lanes;
 mod motion;
 mod obstacle;
+mod plane;
 mod scene;
 mod timing;
 
 pub use behaviour::BehaviourCheck;
-pub(in crate::monitor) use motion::Motion;
+pub(in crate::monitor) use braking::deceleration;
+pub(in crate::monitor) use motion::{Motion, StepRange};
+pub use plane::PlaneCheck;
 pub use scene::SceneCheck;
 
 /// Rounding error of one derived quantity, in units of its operands' magnitude.
-const ROUNDING: f64 = 8.0 * f64::EPSILON;
+pub(in crate::monitor) const ROUNDING: f64 = 8.0 * f64::EPSILON;
 
 /// The slack of `x0 − x1` (or of a rate `(x0 − x1)/d`) due to rounding in its operands.
 #[inline]
-fn rounding(x0: f64, x1: f64) -> f64 {
+pub(in crate::monitor) fn rounding(x0: f64, x1: f64) -> f64 {
     ROUNDING * (x0.abs() + x1.abs())
 }
 
@@ -100,6 +103,8 @@ pub enum Check {
     Behaviour(BehaviourCheck),
     /// A check a scene certificate adds (only a scene certificate's monitor runs them).
     Scene(SceneCheck),
+    /// A check a planar certificate adds (only a planar certificate's monitor runs them).
+    Plane(PlaneCheck),
 }
 
 #[allow(non_upper_case_globals)]
@@ -141,6 +146,14 @@ impl Check {
     pub const RobotMotion: Check = Check::Behaviour(BehaviourCheck::RobotMotion);
     /// The robot moved at a separation ≤ clearance from an obstacle of its lane.
     pub const Collision: Check = Check::Behaviour(BehaviourCheck::Collision);
+    /// The robot's centre off its certified path.
+    pub const RobotPath: Check = Check::Plane(PlaneCheck::RobotPath);
+    /// An obstacle first seen where it could not have come from its start.
+    pub const ObstacleStart: Check = Check::Plane(PlaneCheck::ObstacleStart);
+    /// An obstacle outside its certified region.
+    pub const ObstacleRegion: Check = Check::Plane(PlaneCheck::ObstacleRegion);
+    /// An object the certificate has no obstacle for.
+    pub const UncertifiedObstacle: Check = Check::Plane(PlaneCheck::UncertifiedObstacle);
 }
 
 impl Check {
@@ -148,13 +161,15 @@ impl Check {
     pub const COUNT: usize = PremiseKind::COUNT
         + FailSafe::ALL.len()
         + BehaviourCheck::ALL.len()
-        + SceneCheck::ALL.len();
+        + SceneCheck::ALL.len()
+        + PlaneCheck::ALL.len();
 
     /// Every check: the premises in the certificate's order, then the fail-safe ones, then
-    /// the scene checks.
+    /// the behaviour, scene and planar checks.
     pub const ALL: [Check; Check::COUNT] = {
         const FIRST_BEHAVIOUR: usize = PremiseKind::COUNT + FailSafe::ALL.len();
         const FIRST_SCENE: usize = FIRST_BEHAVIOUR + BehaviourCheck::ALL.len();
+        const FIRST_PLANE: usize = FIRST_SCENE + SceneCheck::ALL.len();
         let mut all = [Check::MalformedSample; Check::COUNT];
         let mut i = 0;
         while i < Check::COUNT {
@@ -164,8 +179,10 @@ impl Check {
                 Check::FailSafe(FailSafe::ALL[i - PremiseKind::COUNT])
             } else if i < FIRST_SCENE {
                 Check::Behaviour(BehaviourCheck::ALL[i - FIRST_BEHAVIOUR])
-            } else {
+            } else if i < FIRST_PLANE {
                 Check::Scene(SceneCheck::ALL[i - FIRST_SCENE])
+            } else {
+                Check::Plane(PlaneCheck::ALL[i - FIRST_PLANE])
             };
             i += 1;
         }
@@ -204,6 +221,14 @@ impl Check {
     /// The checks a scene certificate adds.
     pub const SCENE: [Check; SceneCheck::ALL.len()] = [Check::StaticObstacle, Check::ObstacleLane];
 
+    /// The checks a planar certificate adds.
+    pub const PLANE: [Check; PlaneCheck::ALL.len()] = [
+        Check::RobotPath,
+        Check::ObstacleStart,
+        Check::ObstacleRegion,
+        Check::UncertifiedObstacle,
+    ];
+
     /// The stable name.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -211,6 +236,7 @@ impl Check {
             Check::FailSafe(f) => f.name(),
             Check::Behaviour(c) => c.name(),
             Check::Scene(c) => c.name(),
+            Check::Plane(c) => c.name(),
         }
     }
 
@@ -228,7 +254,7 @@ impl Check {
     pub fn premise(self) -> Option<PremiseKind> {
         match self {
             Check::Premise(kind) => Some(kind),
-            Check::FailSafe(_) | Check::Behaviour(_) | Check::Scene(_) => None,
+            Check::FailSafe(_) | Check::Behaviour(_) | Check::Scene(_) | Check::Plane(_) => None,
         }
     }
 
@@ -236,7 +262,7 @@ impl Check {
     pub fn scene(self) -> Option<SceneCheck> {
         match self {
             Check::Scene(c) => Some(c),
-            Check::Premise(_) | Check::FailSafe(_) | Check::Behaviour(_) => None,
+            Check::Premise(_) | Check::FailSafe(_) | Check::Behaviour(_) | Check::Plane(_) => None,
         }
     }
 
@@ -248,6 +274,7 @@ impl Check {
             Check::FailSafe(FailSafe::MalformedSample | FailSafe::NonFinite) => "",
             Check::Behaviour(c) => c.row().unit,
             Check::Scene(c) => c.row().unit,
+            Check::Plane(c) => c.row().unit,
         }
     }
 
@@ -260,6 +287,7 @@ impl Check {
             Check::FailSafe(_) => ">",
             Check::Behaviour(c) => c.row().relation,
             Check::Scene(c) => c.row().relation,
+            Check::Plane(c) => c.row().relation,
         }
     }
 
@@ -272,6 +300,13 @@ impl Check {
             Check::Behaviour(c) => PremiseKind::COUNT + FailSafe::ALL.len() + c as usize,
             Check::Scene(c) => {
                 PremiseKind::COUNT + FailSafe::ALL.len() + BehaviourCheck::ALL.len() + c as usize
+            }
+            Check::Plane(c) => {
+                PremiseKind::COUNT
+                    + FailSafe::ALL.len()
+                    + BehaviourCheck::ALL.len()
+                    + SceneCheck::ALL.len()
+                    + c as usize
             }
         }
     }
@@ -304,7 +339,7 @@ impl schemars::JsonSchema for Check {
     fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
         let names: Vec<&str> = Check::ALL.iter().map(|c| c.as_str()).collect();
         schemars::json_schema!({
-            "description": "A check of the monitor: a premise of the certificate, a fail-safe check of the input, a behaviour of the robot, or a scene's check.",
+            "description": "A check of the monitor: a premise of the certificate, a fail-safe check of the input, a behaviour of the robot, a scene's or a planar certificate's check.",
             "type": "string",
             "enum": names,
         })

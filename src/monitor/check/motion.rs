@@ -93,6 +93,53 @@ fn braking(v0: f64, b: f64, span: f64) -> f64 {
     }
 }
 
+/// The distances a robot may cover over one step (see the module docs): the most and the
+/// least its speeds at the two ends, its mode at the start and the dynamics allow.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::monitor) struct StepRange {
+    /// The most (m).
+    pub(in crate::monitor) most: f64,
+    /// The least (m).
+    pub(in crate::monitor) least: f64,
+    /// The top speed of the step, max(v_max, v₀, v₁) (m/s): what its tolerance scales with.
+    pub(in crate::monitor) top: f64,
+}
+
+impl StepRange {
+    /// Over `span` from speed `v0` in `mode` to speed `v1`, speeding up at most at `a` (∞: no
+    /// bound), braking at least at `b` in `brake`, cruising at most at v_max.
+    #[inline(always)]
+    pub(in crate::monitor) fn of(
+        mode: Option<Mode>,
+        v0: f64,
+        v1: f64,
+        span: f64,
+        a: f64,
+        b: f64,
+        v_max: f64,
+    ) -> StepRange {
+        let top = v_max.max(v0).max(v1);
+        let most = match mode {
+            Some(Mode::Stop | Mode::Idle) => 0.0,
+            Some(Mode::Brake) => braking(v0, b, span),
+            _ => speeding(v0, a, top, span),
+        };
+        let mut least = if a == f64::INFINITY {
+            0.0
+        } else if a <= 0.0 {
+            v1 * span
+        } else if v1 <= a * span {
+            v1 * v1 / (2.0 * a)
+        } else {
+            v1 * span - a * span * span / 2.0
+        };
+        if mode == Some(Mode::Brake) && v1 > 0.0 {
+            least = least.max(v1 * span + b * span * span / 2.0);
+        }
+        StepRange { most, least, top }
+    }
+}
+
 impl Monitor {
     /// `robot_motion` over the step from the previous instant `r` to the sample's, and what
     /// the step means for `collision` ([`Motion`]). A step begun in `brake` is bounded by
@@ -117,7 +164,6 @@ impl Monitor {
             self.motion = Motion::NONE;
             return;
         }
-        let v_max = self.rule.moving.v_max;
         let a = if accelerated {
             self.rule.moving.a
         } else {
@@ -125,24 +171,8 @@ impl Monitor {
         };
         let b = self.bounds.braking_deceleration;
         let (v0, v1) = (r.v, s.robot_v);
-        let top = v_max.max(v0).max(v1);
-        let most = match mode {
-            Some(Mode::Stop | Mode::Idle) => 0.0,
-            Some(Mode::Brake) => braking(v0, b, span),
-            _ => speeding(v0, a, top, span),
-        };
-        let mut least = if a == f64::INFINITY {
-            0.0
-        } else if a <= 0.0 {
-            v1 * span
-        } else if v1 <= a * span {
-            v1 * v1 / (2.0 * a)
-        } else {
-            v1 * span - a * span * span / 2.0
-        };
-        if mode == Some(Mode::Brake) && v1 > 0.0 {
-            least = least.max(v1 * span + b * span * span / 2.0);
-        }
+        let step = StepRange::of(mode, v0, v1, span, a, b, self.rule.moving.v_max);
+        let (most, least, top) = (step.most, step.least, step.top);
         let tolerance = (RELATIVE_TOLERANCE + ROUNDING) * top * span
             + rounding(r.x, s.robot_x)
             + top * rounding(r.t, s.t);

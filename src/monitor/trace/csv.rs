@@ -400,14 +400,10 @@ fn read_field<'l>(
         }
         Col::Number(k) => {
             let k = usize::from(k);
-            let field = [
-                Field::T,
-                Field::RobotX,
-                Field::RobotV,
-                Field::ObstacleX,
-                Field::ObstacleV,
-                Field::ObstacleT,
-            ][k];
+            let field = Field::ALL
+                .into_iter()
+                .find(|&f| num_slot(f) == Some(k))
+                .unwrap_or(Field::T);
             raw.set(k, number(field, text)?);
             if k == 0 {
                 raw.t_text = at.map(|a| &line[a..a + text.len()]);

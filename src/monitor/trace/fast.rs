@@ -33,7 +33,7 @@ pub(super) struct Prefix {
     /// What they read as: `t`, `robot_x`, `robot_v` and which of them were there, the
     /// mode, and where `t` is in the row.
     num: [f64; 3],
-    present: u8,
+    present: u16,
     mode: Option<Mode>,
     t_at: Option<(usize, usize)>,
 }
@@ -226,6 +226,7 @@ mod tests {
                 String::from_utf8_lossy(line)
             );
             assert_eq!(fast.lanes(), general.lanes());
+            assert_eq!(fast.plane(), general.plane());
         }
         assert_eq!(fast.ids().len(), general.ids().len());
     }
@@ -323,6 +324,8 @@ mod tests {
             "obstacle_x,obstacle_id,t,robot_v,robot_x\n10,a,0,0.2,0\n9.9,a,0.1,0.2,0.02\n9.8,b,0.1,0.2,0.02",
             "note,t,robot_x,robot_v,obstacle_id,obstacle_x,obstacle_t,extra\nhi,0,0,0,1,10,0,\n\"q,q\",0.1,0,0,1,10,0.05,x\n,0.2,0,0,1,10,,\n",
             "t,robot_x,robot_v,robot_mode,obstacle_id,obstacle_x,robot_lane,obstacle_lane,leaving_lane\n0,0,0.1,drive,car,5,0,1,\n0.1,0.01,0.1,drive,car,5,0,1.0,\n0.2,0.02,0.1,drive,car,5,+0,-1,1\n0.3,0.02,0.1,drive,car,5,x,1,",
+            // Planar columns: numbers, empty cells (no velocity; a robot-only row), words.
+            "t,robot_x,robot_y,robot_v,robot_mode,obstacle_id,obstacle_x,obstacle_y,obstacle_vx,obstacle_vy\n0,0,0,0,accelerate,car,10,-2,,\n0.1,0.01,0.5,0.1,drive,car,9.9,-1.9,-1,1\n0.2,0.02,0.5,0.1,drive,,,,,\n0.3,0.03,x,0.1,drive,car,9.8,-1.8,-1,1e0\n0.4,0.04,0.5,0.1,drive,car,9.7,,-1,",
             // A header only, and a header with a BOM then rows.
             "t,robot_x,robot_v,obstacle_id,obstacle_x",
             "\u{feff}t,robot_x,robot_v,obstacle_id,obstacle_x\n1,2,3,4,5\n\u{feff}1,2,3,4,5",

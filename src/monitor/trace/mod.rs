@@ -24,6 +24,8 @@
 //! header. `robot_mode` is one of `idle, accelerate, drive, brake, stop` (any case). The
 //! lane columns of scene traces, `robot_lane, obstacle_lane, leaving_lane`, are optional
 //! integers (empty: not stated); their values come with [`Decoder::lanes`].
+//! The planar columns, `robot_y, obstacle_y, obstacle_vx, obstacle_vy`, are optional numbers
+//! (a planar monitor requires the first two); their values come with [`Decoder::plane`].
 //!
 //! **JSON Lines**: one object per line with the same keys; `obstacle_id` a string or an
 //! integer (`3` and `"3"` are the same obstacle); `null` in an optional key means absent, in a
@@ -160,13 +162,30 @@ pub struct Decoder {
     prefix: Prefix,
     /// The lanes of the last sample.
     lanes: Lanes,
+    /// The planar cells of the last sample.
+    plane: PlaneCells,
+}
+
+/// The planar columns of a sample (each `None` when the trace has no such column or the cell
+/// is empty): what a planar trace adds to a line's [`Sample`], whose `robot_x` and
+/// `obstacle_x` are then the centres' x coordinates.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlaneCells {
+    /// `robot_y` (m).
+    pub robot_y: Option<f64>,
+    /// `obstacle_y` (m).
+    pub obstacle_y: Option<f64>,
+    /// `obstacle_vx` (m/s).
+    pub obstacle_vx: Option<f64>,
+    /// `obstacle_vy` (m/s).
+    pub obstacle_vy: Option<f64>,
 }
 
 /// The fields of a line as read, before validation.
 struct Raw<'l> {
     /// The numbers, by [`num_slot`]; valid where `present` has the bit.
-    num: [f64; 6],
-    present: u8,
+    num: [f64; 10],
+    present: u16,
     t_text: Option<&'l [u8]>,
     robot_mode: Option<Mode>,
     id: Option<IdAt>,
@@ -184,6 +203,10 @@ fn num_slot(field: Field) -> Option<usize> {
         Field::ObstacleX => Some(3),
         Field::ObstacleV => Some(4),
         Field::ObstacleT => Some(5),
+        Field::RobotY => Some(6),
+        Field::ObstacleY => Some(7),
+        Field::ObstacleVx => Some(8),
+        Field::ObstacleVy => Some(9),
         Field::RobotMode
         | Field::ObstacleId
         | Field::RobotLane
@@ -212,7 +235,7 @@ enum IdAt {
 
 impl<'l> Raw<'l> {
     const EMPTY: Raw<'static> = Raw {
-        num: [0.0; 6],
+        num: [0.0; 10],
         present: 0,
         t_text: None,
         robot_mode: None,
@@ -263,6 +286,7 @@ impl Decoder {
             repeat: [Repeat::default(); 3],
             prefix: Prefix::default(),
             lanes: Lanes::UNKNOWN,
+            plane: PlaneCells::default(),
         }
     }
 
@@ -289,6 +313,12 @@ impl Decoder {
     /// [`Monitor::observe_in_lanes`](super::Monitor::observe_in_lanes) with the sample.
     pub fn lanes(&self) -> Lanes {
         self.lanes
+    }
+
+    /// The planar cells of the sample [`Decoder::decode`] last returned (planar traces; all
+    /// `None` when the trace has no planar columns or the cells are empty).
+    pub fn plane(&self) -> PlaneCells {
+        self.plane
     }
 
     /// Decodes one line (without its line break; a trailing `\r` is ignored).
@@ -371,7 +401,14 @@ impl Decoder {
     fn sample<'l>(&mut self, line: &'l [u8], raw: &Raw<'l>) -> Decoded<'l> {
         // t, robot_x, robot_v and obstacle_x are required, except in a robot-only row (no
         // obstacle id and no obstacle number at all).
-        if raw.present & 0b111 == 0b111 && raw.present & 0b111000 == 0 && raw.id.is_none() {
+        self.plane = PlaneCells {
+            robot_y: raw.get(6),
+            obstacle_y: raw.get(7),
+            obstacle_vx: raw.get(8),
+            obstacle_vy: raw.get(9),
+        };
+        const OBSTACLE_NUMBERS: u16 = 0b11_1011_1000;
+        if raw.present & 0b111 == 0b111 && raw.present & OBSTACLE_NUMBERS == 0 && raw.id.is_none() {
             self.lanes = raw.lanes;
             return Decoded::Robot {
                 sample: RobotSample {
