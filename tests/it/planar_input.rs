@@ -289,7 +289,8 @@ fn a_broken_value_is_pointed_at_and_an_override_is_named() {
     let e = error(BASE, &["robot.goal=3"]);
     assert_eq!(e.key(), Some("robot.goal"), "{e}");
     assert!(
-        e.to_string().contains("radius, path, path_end"),
+        e.to_string()
+            .contains("radius, path, path_tolerance, path_end"),
         "the known keys are listed: {e}"
     );
     let e = error(BASE, &["obstacle.2.radius=1"]);

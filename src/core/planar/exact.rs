@@ -226,7 +226,9 @@ impl PlanarProblem {
                 .map_or("the x axis".into(), show_points)
         };
         let path = Path::new(vertices).map_err(|e| at(key, shown(), e.to_string()))?;
-        let analysed = RationalPath::new(&path, delta).map_err(|e| self.tolerance_violation(&e))?;
+        let analysed = RationalPath::new(&path, delta)
+            .map_err(|e| self.tolerance_violation(&e))?
+            .widened(&exact_decimal(self.body.path_tolerance));
         Ok((analysed, self.body.path.is_some() && self.body.stops_at_end))
     }
 

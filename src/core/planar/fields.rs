@@ -13,8 +13,8 @@ use crate::core::planar::file::{
 };
 use crate::core::planar::keys::{
     DANGER_ZONE, DIRECTION, DIRECTION_TOLERANCE, FIELD_OF_VIEW, FIRST_DETECTION, MAX_SPEED,
-    OBSTACLE_KEYS, PATH, PATH_END, POSITION_NOISE, RADIUS, RANGE, REGION, ROBOT_RADIUS, START,
-    START_MAX, START_MIN, STOP_POLYGON, VELOCITY_NOISE,
+    OBSTACLE_KEYS, PATH, PATH_END, PATH_TOLERANCE, POSITION_NOISE, RADIUS, RANGE, REGION,
+    ROBOT_RADIUS, START, START_MAX, START_MIN, STOP_POLYGON, VELOCITY_NOISE,
 };
 use crate::core::planar::read::take;
 use crate::core::scene::fields::{obstacle_tables, typed};
@@ -79,8 +79,10 @@ pub(crate) fn planar_keys(
     let radius = take(root, "robot", "radius");
     let path = take(root, "robot", "path");
     let path_end = take(root, "robot", "path_end");
+    let path_tolerance = take(root, "robot", "path_tolerance");
     let radius = plain(source, &ROBOT_RADIUS, radius)?.unwrap_or(0.0);
     let path: Option<Vec<[f64; 2]>> = plain(source, &PATH, path)?;
+    let path_tolerance = plain(source, &PATH_TOLERANCE, path_tolerance)?.unwrap_or(0.0);
     let end = choice(source, &PATH_END, path_end, &["stop", "continue"])?;
     if end.is_some() && path.is_none() {
         return Err(source.shape(
@@ -93,6 +95,7 @@ pub(crate) fn planar_keys(
         radius,
         stops_at_end: path.is_some() && end.as_deref() != Some("continue"),
         path,
+        path_tolerance,
     };
     let zone = take(root, "controller", "danger_zone");
     let polygon = take(root, "controller", "stop_polygon");

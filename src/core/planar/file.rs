@@ -34,6 +34,8 @@ pub struct PlanarRobot {
     pub radius: f64,
     /// The path's vertices from (0, 0) (`robot.path`); None: the x axis without end.
     pub path: Option<Vec<[f64; 2]>>,
+    /// How far its centre may be off the path (m), ≥ 0 (`robot.path_tolerance`, default 0).
+    pub path_tolerance: f64,
     /// Whether the robot must rest at or before the path's end (`robot.path_end = "stop"`,
     /// the default for a given path) or its last segment runs on (`"continue"`). False
     /// without a path.

@@ -20,6 +20,14 @@ pub(crate) const ROBOT_RADIUS: KeySpec =
     spec("robot.radius", Kind::Number, "m", Bound::NonNegative);
 /// The robot's path: a polyline from (0, 0).
 pub(crate) const PATH: KeySpec = spec("robot.path", Kind::Points, "m", Bound::Free);
+/// How far the robot's centre may be off its path (m): a tracking tolerance, added to the
+/// path's drift D.
+pub(crate) const PATH_TOLERANCE: KeySpec = spec(
+    "robot.path_tolerance",
+    Kind::Number,
+    "m",
+    Bound::NonNegative,
+);
 /// What the robot does at the path's end: `stop` or `continue`.
 pub(crate) const PATH_END: KeySpec = spec("robot.path_end", Kind::Text, "", Bound::Free);
 /// The danger zone: `disc` or `polygon`.
@@ -63,6 +71,7 @@ pub(crate) const PLANAR_KEYS: &[&KeySpec] = &[
     &DIRECTION_TOLERANCE,
     &ROBOT_RADIUS,
     &PATH,
+    &PATH_TOLERANCE,
     &PATH_END,
     &DANGER_ZONE,
     &STOP_POLYGON,

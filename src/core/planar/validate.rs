@@ -10,8 +10,8 @@ use crate::core::model::validate::{motion_violation, number_violation};
 use crate::core::planar::file::{PlanarProblem, StartFile, Zone};
 use crate::core::planar::keys::{
     DIRECTION, DIRECTION_TOLERANCE, FIELD_OF_VIEW, FIRST_DETECTION, MAX_SPEED, PATH,
-    POSITION_NOISE, RADIUS, RANGE, REGION, ROBOT_RADIUS, START, START_MAX, START_MIN, STOP_POLYGON,
-    VELOCITY_NOISE,
+    PATH_TOLERANCE, POSITION_NOISE, RADIUS, RANGE, REGION, ROBOT_RADIUS, START, START_MAX,
+    START_MIN, STOP_POLYGON, VELOCITY_NOISE,
 };
 use crate::core::scene::keys::SceneKey;
 use crate::core::scene::validate::{SceneViolation, obstacle_name_violation};
@@ -99,6 +99,7 @@ impl PlanarProblem {
                 })
             })
             .or_else(|| plain(&ROBOT_RADIUS, Some(self.body.radius)))
+            .or_else(|| plain(&PATH_TOLERANCE, Some(self.body.path_tolerance)))
             .or_else(|| {
                 let path = self.body.path.as_ref()?;
                 coordinates(SceneKey::Plain(PATH.key), &PATH, path, || show_points(path))

@@ -85,6 +85,14 @@ impl RationalPath {
         })
     }
 
+    /// The same path with its drift grown by `e` ≥ 0: every engine that is sound for a robot
+    /// within D of the analysed path is then sound for one within D + e of it (a robot that
+    /// tracks its path to within `e`).
+    pub fn widened(mut self, e: &Exact) -> Self {
+        self.drift += e;
+        self
+    }
+
     /// The segments, in order.
     pub fn segments(&self) -> &[RationalSegment] {
         &self.segments
