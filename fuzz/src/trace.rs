@@ -3,8 +3,10 @@
 
 use std::sync::OnceLock;
 
+use safereach::core::planar::PlanarProblem;
+use safereach::monitor::planar::{PlanarMonitor, PlanarRobotSample, PlanarSample};
 use safereach::monitor::trace::{Decoded, Decoder, Format, Line, Lines};
-use safereach::monitor::{DEFAULT_MAX_OBSTACLES, Monitor, Verdict};
+use safereach::monitor::{DEFAULT_MAX_OBSTACLES, Detail, Field, Monitor, Outcome, Verdict};
 use safereach::proof::certificate_file::CertificateFile;
 
 use super::assert_user_message;
@@ -111,10 +113,108 @@ fn monitor(trace: &[u8], format: Option<Format>) -> (Run, Option<Format>) {
     (run, decoder.format())
 }
 
-/// The trace targets' body: monitors `data` as a trace of `format`; the same trace with CRLF,
+/// The planar monitor the trace targets also feed: the Nav2-style stop polygon's premises
+/// (polygon zone, range, a destination), built once.
+fn planar_monitor() -> &'static PlanarMonitor {
+    static MONITOR: OnceLock<PlanarMonitor> = OnceLock::new();
+    MONITOR.get_or_init(|| {
+        let text = include_str!("../../problems/planar/nav2-stop-polygon.toml");
+        let problem = PlanarProblem::from_toml_str(text, "nav2-stop-polygon").expect("reads");
+        PlanarMonitor::for_problem(&problem)
+    })
+}
+
+/// Monitors `trace` against the planar premises as `safereach monitor` does on a planar
+/// certificate (rows without robot_y or obstacle_y are malformed samples). Asserts what
+/// [`monitor`] asserts of the line's: no panic, a violation is never forgotten, an
+/// unreadable line violates, one line is one sample, events in the user's terms.
+fn monitor_planar(trace: &[u8], format: Option<Format>) {
+    let mut monitor = planar_monitor().clone();
+    let mut decoder = Decoder::new(format, None, DEFAULT_MAX_OBSTACLES);
+    let mut named = std::collections::HashSet::new();
+    let mut fed = 0;
+    let mut lines = Lines::new(trace);
+    while let Some((_, line)) = lines.next_line(|| Ok(())).expect("lines") {
+        let Line::Text(line) = line else {
+            panic!("no line of an input under 1 MiB is too long");
+        };
+        let was = monitor.verdict();
+        let missing = |m: &mut PlanarMonitor, t: f64, f: Field| -> Verdict {
+            m.malformed(Some(t), Detail::MissingField(f)).verdict
+        };
+        let verdict = match decoder.decode(line) {
+            Decoded::Blank | Decoded::Header => continue,
+            Decoded::Sample { sample, .. } => {
+                let cells = decoder.plane();
+                match (cells.robot_y, cells.obstacle_y) {
+                    (Some(robot_y), Some(obstacle_y)) => {
+                        if named.insert(sample.obstacle_id) {
+                            monitor.identify(
+                                sample.obstacle_id,
+                                decoder.ids().name(sample.obstacle_id),
+                            );
+                        }
+                        let s = PlanarSample {
+                            t: sample.t,
+                            robot_x: sample.robot_x,
+                            robot_y,
+                            robot_v: sample.robot_v,
+                            robot_mode: sample.robot_mode,
+                            obstacle_id: sample.obstacle_id,
+                            obstacle_x: sample.obstacle_x,
+                            obstacle_y,
+                            obstacle_velocity: cells.obstacle_vx.zip(cells.obstacle_vy),
+                        };
+                        let outcome: Outcome<'_> = monitor.observe(&s);
+                        let line_text = String::from_utf8_lossy(line);
+                        for event in outcome.events {
+                            assert_user_message(&event.to_string(), &line_text);
+                        }
+                        outcome.verdict
+                    }
+                    (None, _) => missing(&mut monitor, sample.t, Field::RobotY),
+                    (_, None) => missing(&mut monitor, sample.t, Field::ObstacleY),
+                }
+            }
+            Decoded::Robot { sample, .. } => match decoder.plane().robot_y {
+                Some(robot_y) => {
+                    let r = PlanarRobotSample {
+                        t: sample.t,
+                        robot_x: sample.robot_x,
+                        robot_y,
+                        robot_v: sample.robot_v,
+                        robot_mode: sample.robot_mode,
+                    };
+                    monitor.observe_robot(&r).verdict
+                }
+                None => missing(&mut monitor, sample.t, Field::RobotY),
+            },
+            Decoded::Malformed { t, detail, .. } => {
+                let verdict = monitor.malformed(t, detail).verdict;
+                assert_eq!(
+                    verdict,
+                    Verdict::Violated,
+                    "an unreadable line must violate"
+                );
+                verdict
+            }
+        };
+        fed += 1;
+        if was == Verdict::Violated {
+            assert_eq!(verdict, Verdict::Violated, "a violation was forgotten");
+        }
+    }
+    let summary = monitor.summary();
+    assert_eq!(summary.verdict, monitor.verdict());
+    assert_eq!(summary.samples, fed);
+}
+
+/// The trace targets' body: monitors `data` as a trace of `format` (against the planar
+/// premises too); the same trace with CRLF,
 /// CR or LFCR line endings must come to the same, and so must the trace read with its format
 /// told from its first line (as for standard input) when that tells `format`.
 pub fn fuzz_trace(data: &[u8], format: Format) {
+    monitor_planar(data, Some(format));
     let (run, _) = monitor(data, Some(format));
     if !data.contains(&b'\r') {
         for (end, name) in [(&b"\r\n"[..], "CRLF"), (b"\r", "CR"), (b"\n\r", "LFCR")] {

@@ -38,12 +38,12 @@ use serde::Serialize;
 
 use safereach::core::parameter::Parameter;
 use safereach::core::show::value;
-use safereach::monitor::bag::{BagOptions, BagReader, BagStats, LaneAxis, SpeedSource};
+use safereach::monitor::bag::{BagItem, BagOptions, BagReader, BagStats, LaneAxis, SpeedSource};
 use safereach::monitor::planar::PlaneSummary;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Ids, Line, Lines, MAX_LINE};
 use safereach::monitor::{
-    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, PremiseSummary,
-    RegionPoint, SceneSummary, Status, Summary, Verdict,
+    Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, Outcome,
+    PremiseSummary, RegionPoint, SceneSummary, Status, Summary, Verdict,
 };
 use safereach::proof::certificate_file::{CertificateFile, is_region_map};
 use safereach::proof::json_read::from_json;
@@ -89,7 +89,9 @@ pub struct MonitorArgs {
     #[arg(long, conflicts_with = "mode_topic", help_heading = "ROS 2 bags")]
     infer_mode: bool,
     /// MCAP bag: the lane, as its origin and heading in the odometry frame (m, m, rad).
-    /// Default: through the robot's first pose, along its heading.
+    /// Default: through the robot's first pose, along its heading. With a planar
+    /// certificate: the problem's frame (its origin and x axis) in the odometry frame;
+    /// default: the odometry frame itself.
     #[arg(long, value_name = "X,Y,YAW", help_heading = "ROS 2 bags")]
     lane_axis: Option<String>,
     /// MCAP bag: obstacle speeds from their twists (compared exactly), or estimated by the
@@ -186,7 +188,7 @@ enum ObstacleSpeedArg {
 }
 
 /// Whether the trace is a bag: `--format mcap`, or a `.mcap` file without `--format`.
-fn is_bag(args: &MonitorArgs) -> bool {
+pub(super) fn is_bag(args: &MonitorArgs) -> bool {
     match args.format {
         Some(format) => format == FormatArg::Mcap,
         None => args
@@ -197,7 +199,7 @@ fn is_bag(args: &MonitorArgs) -> bool {
 }
 
 /// The bag options of `args`, or an error naming the flag.
-fn bag_options(args: &MonitorArgs) -> Result<BagOptions> {
+pub(super) fn bag_options(args: &MonitorArgs) -> Result<BagOptions> {
     if args.columns.is_some() {
         anyhow::bail!(
             "--columns names CSV columns; {} is an MCAP bag",
@@ -224,6 +226,7 @@ fn bag_options(args: &MonitorArgs) -> Result<BagOptions> {
         },
         ground_truth: args.ground_truth,
         max_obstacles: defaults.max_obstacles,
+        plane: false,
     };
     Ok(options)
 }
@@ -318,12 +321,9 @@ impl Session {
 /// Runs `safereach monitor`: exit 0 every premise held, 1 a violation.
 pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
     if let Some(cert) = super::planar_monitor::planar_certificate(&args)? {
-        anyhow::ensure!(
-            !is_bag(&args),
-            "{}: ROS 2 bags are not read against planar certificates yet; give the trace as CSV \
-             or JSON Lines with robot_y and obstacle_y columns",
-            args.trace.display()
-        );
+        if is_bag(&args) {
+            return super::planar_monitor::run_bag(&args, &cert, out);
+        }
         no_bag_flags(&args)?;
         return super::planar_monitor::run(&args, &cert, out);
     }
@@ -390,7 +390,40 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
 /// numbers.
 fn run_bag(args: &MonitorArgs, out: &mut Output) -> Result<Exit> {
     let options = bag_options(args)?;
-    let mut monitor = certificate_monitor(args)?;
+    let monitor = certificate_monitor(args)?;
+    read_bag(args, &options, monitor, out)
+}
+
+/// What a bag is checked by: the line's monitor, or the planar one.
+pub(super) trait BagMonitor {
+    /// The standing verdict.
+    fn verdict(&self) -> Verdict;
+    /// Checks one item of the bag.
+    fn item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_>;
+    /// The summary so far, and whether anything was checked.
+    fn summary(&self) -> (Summary, bool);
+}
+
+impl BagMonitor for Monitor {
+    fn verdict(&self) -> Verdict {
+        Monitor::verdict(self)
+    }
+    fn item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_> {
+        self.observe_bag_item(ids, item)
+    }
+    fn summary(&self) -> (Summary, bool) {
+        (Monitor::summary(self), self.checked_anything())
+    }
+}
+
+/// Reads the bag `args` names with `options`, checking every item with `monitor`, printing
+/// as it goes; the summary and exit status at the end.
+pub(super) fn read_bag(
+    args: &MonitorArgs,
+    options: &BagOptions,
+    mut monitor: impl BagMonitor,
+    out: &mut Output,
+) -> Result<Exit> {
     let live = args.trace.as_os_str() == "-";
     let (input, origin): (Box<dyn Read + Send>, String) = if live {
         (Box::new(io::stdin()), "standard input".to_string())
@@ -401,14 +434,14 @@ fn run_bag(args: &MonitorArgs, out: &mut Output) -> Result<Exit> {
     };
     let input = Interruptible::new(input).context("listening for Ctrl-C and SIGTERM")?;
     let mut reader =
-        BagReader::new(input, &options).map_err(|e| anyhow::anyhow!("--obstacle-topic: {e}"))?;
+        BagReader::new(input, options).map_err(|e| anyhow::anyhow!("--obstacle-topic: {e}"))?;
     let mut printer = Printer::new(args, "message");
     let mut out = BufWriter::with_capacity(1 << 16, out);
     let mut t_text = String::new();
     while let Some(item) = reader.next_item() {
         let was = monitor.verdict();
         let (t, number) = (item.t(), item.message());
-        let outcome = monitor.observe_bag_item(reader.ids(), &item);
+        let outcome = monitor.item(reader.ids(), &item);
         t_text.clear();
         if let Some(t) = t {
             use std::fmt::Write as _;
@@ -432,8 +465,9 @@ fn run_bag(args: &MonitorArgs, out: &mut Output) -> Result<Exit> {
     if let Some(signal) = reader.into_inner().interrupted_by() {
         eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
     }
-    bag_note(&origin, &options, &stats);
-    finish(&monitor, &printer, &mut out, &origin)
+    bag_note(&origin, options, &stats);
+    let (summary, checked) = monitor.summary();
+    finish_with(&summary, checked, &printer, &mut out, &origin)
 }
 
 /// What was read from a bag, on standard error: the counts, and the bag's topics when the

@@ -9,18 +9,23 @@ use std::io::{self, BufWriter, Read};
 
 use anyhow::{Context, Result};
 
+use safereach::monitor::bag::BagItem;
 use safereach::monitor::planar::{PlanarMonitor, PlanarRobotSample, PlanarSample};
 use safereach::monitor::trace::{
     Columns, Decoded, Decoder, Format, Ids, Line, Lines, MAX_LINE, PlaneCells,
 };
-use safereach::monitor::{DEFAULT_MAX_OBSTACLES, Detail, Field, Outcome, RobotSample, Sample};
+use safereach::monitor::{
+    DEFAULT_MAX_OBSTACLES, Detail, Field, Outcome, RobotSample, Sample, Summary, Verdict,
+};
 use safereach::proof::certificate_file::{CertificateFile, is_region_map};
 use safereach::proof::planar::certificate::PlanarCertificate;
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
 use super::interrupt::Interruptible;
-use super::monitor::{FormatArg, MonitorArgs, Printer, finish_with};
+use super::monitor::{
+    BagMonitor, FormatArg, MonitorArgs, Printer, bag_options, finish_with, read_bag,
+};
 use super::output::Output;
 
 /// The planar certificate `--certificate` holds, if it holds one.
@@ -205,4 +210,28 @@ pub fn run(args: &MonitorArgs, cert: &PlanarCertificate, out: &mut Output) -> Re
         &mut out,
         &origin,
     )
+}
+
+/// `safereach monitor` on a ROS 2 bag against the planar certificate `cert`: the bag read in
+/// the plane (`BagOptions::plane`; `--lane-axis` places the problem's frame in the odometry
+/// frame), obstacles matched by name (a TrackedObjects UUID in hex, an Odometry topic's
+/// child frame).
+pub fn run_bag(args: &MonitorArgs, cert: &PlanarCertificate, out: &mut Output) -> Result<Exit> {
+    let mut options = bag_options(args)?;
+    options.plane = true;
+    let monitor = PlanarMonitor::new(cert)
+        .with_context(|| format!("{}: certificate unusable", args.certificate.display()))?;
+    read_bag(args, &options, monitor, out)
+}
+
+impl BagMonitor for PlanarMonitor {
+    fn verdict(&self) -> Verdict {
+        PlanarMonitor::verdict(self)
+    }
+    fn item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_> {
+        self.observe_bag_item(ids, item)
+    }
+    fn summary(&self) -> (Summary, bool) {
+        (PlanarMonitor::summary(self), self.checked_anything())
+    }
 }

@@ -5,6 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
+use mcap::Compression;
+
+use crate::bag_writer::{self, Body, odometry, stamp, yaw};
 use crate::common::cli::{safereach, stdout};
 use crate::common::tmp;
 
@@ -156,22 +159,6 @@ fn a_faster_obstacle_and_a_robot_that_does_not_brake_are_violations() {
 fn unusable_planar_input_exits_2_with_its_reason() {
     let dir = tmp();
     let (cert, trace) = seed_and_trace(dir.path(), "csv");
-    // A ROS 2 bag is not read against a planar certificate yet.
-    let out = safereach(dir.path())
-        .arg("monitor")
-        .arg("--certificate")
-        .arg(&cert)
-        .arg(&trace)
-        .args(["--format", "mcap"])
-        .assert()
-        .code(2)
-        .get_output()
-        .clone();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("not read against planar certificates"),
-        "{err}"
-    );
     // A line trace (no robot_y): every sample is malformed, nothing is checked.
     let line = dir.path().join("line.csv");
     std::fs::write(
@@ -213,4 +200,133 @@ fn unusable_planar_input_exits_2_with_its_reason() {
         .clone();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("not certified"), "{err}");
+}
+
+/// The trace `csv` (the planar columns) as a ROS 2 bag recorded in an odometry frame in
+/// which the problem's frame has origin `origin` and heading `heading`: the robot's
+/// odometry on /odom (heading along the seed's path, the problem's x axis), each obstacle's
+/// on /obstacles/NAME (child frame NAME), the mode on /mode.
+fn planar_bag(csv: &str, path: &Path, origin: [f64; 2], heading: f64) {
+    let (c, s) = (heading.cos(), heading.sin());
+    let world = |x: f64, y: f64| [origin[0] + c * x - s * y, origin[1] + s * x + c * y];
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let mut bag = bag_writer::Bag::create(path, Some(Compression::Zstd));
+    let mut last_t = String::new();
+    for (k, line) in lines.enumerate() {
+        let f: Vec<&str> = line.split(',').collect();
+        let n = |name: &str| f[col(name)].parse::<f64>().unwrap_or(0.0);
+        let t = f[col("t")];
+        let st = stamp(t);
+        if t != last_t {
+            let robot = Body {
+                position: world(n("robot_x"), n("robot_y")),
+                orientation: yaw(heading),
+                velocity: [n("robot_v"), 0.0],
+            };
+            let k = k as u64;
+            bag.write(
+                "/odom",
+                "nav_msgs/msg/Odometry",
+                k,
+                &odometry(st, "base_link", &robot),
+            );
+            let mode = bag_writer::text(f[col("robot_mode")]);
+            bag.write("/mode", "std_msgs/msg/String", k, &mode);
+            last_t = t.to_string();
+        }
+        let name = f[col("obstacle_id")];
+        // Its velocity in its own frame, which is the problem's turned by `heading`.
+        let obstacle = Body {
+            position: world(n("obstacle_x"), n("obstacle_y")),
+            orientation: yaw(heading),
+            velocity: [n("obstacle_vx"), n("obstacle_vy")],
+        };
+        let topic = format!("/obstacles/{name}");
+        bag.write(
+            &topic,
+            "nav_msgs/msg/Odometry",
+            k as u64,
+            &odometry(st, name, &obstacle),
+        );
+    }
+    bag.finish();
+}
+
+#[test]
+fn a_ros_bag_in_a_turned_and_shifted_odometry_frame_reads_as_its_trace() {
+    let dir = tmp();
+    let d = dir.path();
+    let (cert, trace) = seed_and_trace(d, "csv");
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let run = |bag: &Path, extra: &[&str]| {
+        let out = safereach(d)
+            .arg("monitor")
+            .arg("--certificate")
+            .arg(&cert)
+            .arg(bag)
+            .args([
+                "--mode-topic",
+                "/mode",
+                "--obstacle-topic",
+                "/obstacles/*",
+                "--json",
+            ])
+            .args(extra)
+            .output()
+            .unwrap();
+        let lines: Vec<serde_json::Value> = stdout(&out)
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        (out.status.code().unwrap(), lines)
+    };
+    // The problem's frame 3 m east, 1 m north, turned by 0.5 rad: a robot 1e-14 off its
+    // path after the turn there and back is within the tolerance the problem states.
+    let tolerant = d.join("tolerant.json");
+    safereach(d)
+        .arg("certify")
+        .arg(problem("seed-in-plane"))
+        .args(["--set", "robot.path_tolerance=1e-6", "--out"])
+        .arg(&tolerant)
+        .assert()
+        .code(0);
+    let bag = d.join("turned.mcap");
+    planar_bag(&text, &bag, [3.0, 1.0], 0.5);
+    let out = safereach(d)
+        .arg("monitor")
+        .arg("--certificate")
+        .arg(&tolerant)
+        .arg(&bag)
+        .args(["--mode-topic", "/mode", "--obstacle-topic", "/obstacles/*"])
+        .args(["--lane-axis", "3,1,0.5", "--events-only"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    assert!(stdout(&out).contains("summary: held"), "{}", stdout(&out));
+    // Unturned, a robot that does not brake is the CSV's violation, at the same instant.
+    let brake = text.lines().position(|l| l.contains(",brake,")).unwrap();
+    let edited: String = text
+        .lines()
+        .enumerate()
+        .map(|(k, l)| {
+            if k == brake {
+                l.replace(",brake,", ",drive,")
+            } else {
+                l.into()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let flat = d.join("on.mcap");
+    planar_bag(&edited, &flat, [0.0, 0.0], 0.0);
+    let (code, lines) = run(&flat, &[]);
+    assert_eq!(code, 1);
+    assert_eq!(lines[0]["premise"], "controller_reaction", "{lines:?}");
+    let on_csv = d.join("on.csv");
+    std::fs::write(&on_csv, format!("{edited}\n")).unwrap();
+    let (_, csv_events, _) = monitor_json(d, &cert, &on_csv);
+    assert_eq!(lines[0]["t"], csv_events[0]["t"]);
+    assert_eq!(lines[0]["observed"], csv_events[0]["observed"]);
 }

@@ -42,6 +42,21 @@ impl LaneAxis {
         (p[0] - self.origin[0]) * self.direction[0] + (p[1] - self.origin[1]) * self.direction[1]
     }
 
+    /// A position in the frame whose origin is the axis's and whose x axis is its direction
+    /// (m): along it, and to its left.
+    #[inline]
+    pub fn local(&self, p: [f64; 2]) -> [f64; 2] {
+        let d = [p[0] - self.origin[0], p[1] - self.origin[1]];
+        self.rotate(d)
+    }
+
+    /// A world-frame vector in that frame.
+    #[inline]
+    pub fn rotate(&self, v: [f64; 2]) -> [f64; 2] {
+        let [c, s] = self.direction;
+        [v[0] * c + v[1] * s, v[1] * c - v[0] * s]
+    }
+
     /// A world-frame velocity's component along the lane (m/s).
     #[inline]
     pub fn along(&self, v: [f64; 2]) -> f64 {

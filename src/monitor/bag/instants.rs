@@ -5,6 +5,7 @@
 use std::collections::VecDeque;
 
 use crate::core::semantics::Mode;
+use crate::monitor::planar::{PlanarRobotSample, PlanarSample};
 use crate::monitor::{ObstacleId, RobotSample, Sample};
 
 use super::axis::LaneAxis;
@@ -87,6 +88,8 @@ fn due(t: f64, at: f64) -> bool {
 /// The assembly of instants.
 pub(super) struct Instants {
     pub axis: Option<LaneAxis>,
+    /// Keep the plane (a planar certificate's samples).
+    pub plane: bool,
     infer_mode: bool,
     speeds: SpeedSource,
     ground_truth: bool,
@@ -110,6 +113,7 @@ impl Instants {
     pub(super) fn new(options: &BagOptions) -> Self {
         Instants {
             axis: options.lane_axis,
+            plane: options.plane,
             infer_mode: options.infer_mode,
             speeds: options.obstacle_speed,
             ground_truth: options.ground_truth,
@@ -169,6 +173,9 @@ impl Instants {
             self.assigned.clear();
             return;
         };
+        if self.plane {
+            return self.emit_planar(axis, r, next);
+        }
         let along = |v: Option<[f64; 2]>| v.map_or(f64::NAN, |v| axis.along(v));
         let robot_v = along(r.velocity);
         let robot_mode = if self.infer_mode {
@@ -204,6 +211,60 @@ impl Instants {
                     obstacle_x: axis.position(o.position),
                     obstacle_v,
                     obstacle_t: (!self.ground_truth).then_some(o.t),
+                },
+                message: o.message,
+            });
+        }
+        self.assigned.clear();
+    }
+}
+
+impl Instants {
+    /// [`Instants::emit`] in the plane: positions and velocities in the axis's frame, the
+    /// robot's speed its velocity's norm.
+    fn emit_planar(&mut self, axis: LaneAxis, r: Robot, next: Option<Robot>) {
+        let speed = |v: Option<[f64; 2]>| v.map_or(f64::NAN, |v| v[0].hypot(v[1]));
+        let robot_v = speed(r.velocity);
+        let robot_mode = if self.infer_mode {
+            next.and_then(|n| inferred(robot_v, speed(n.velocity)))
+        } else {
+            self.mode
+        };
+        let [robot_x, robot_y] = axis.local(r.position);
+        let robot = PlanarRobotSample {
+            t: r.t,
+            robot_x,
+            robot_y,
+            robot_v,
+            robot_mode,
+        };
+        if self.assigned.list.is_empty() {
+            self.out.push_back(BagItem::PlanarRobot {
+                sample: robot,
+                message: r.message,
+            });
+            return;
+        }
+        for o in &self.assigned.list {
+            let [obstacle_x, obstacle_y] = axis.local(o.position);
+            let obstacle_velocity = match self.speeds {
+                SpeedSource::Twist => o.velocity.map(|v| {
+                    let [x, y] = axis.rotate(v);
+                    (x, y)
+                }),
+                SpeedSource::Positions => None,
+            };
+            self.out.push_back(BagItem::PlanarSample {
+                sample: PlanarSample {
+                    t: r.t,
+                    robot_x,
+                    robot_y,
+                    robot_v,
+                    robot_mode,
+                    obstacle_id: o.id,
+                    obstacle_x,
+                    obstacle_y,
+                    obstacle_velocity,
                 },
                 message: o.message,
             });

@@ -45,6 +45,7 @@ mod topics;
 pub use axis::{LaneAxis, world_velocity};
 pub use reader::BagReader;
 
+use crate::monitor::planar::{PlanarMonitor, PlanarRobotSample, PlanarSample};
 use crate::monitor::trace::Ids;
 use crate::monitor::{DEFAULT_MAX_OBSTACLES, Detail, Lanes, Monitor, Outcome, RobotSample, Sample};
 
@@ -84,6 +85,12 @@ pub struct BagOptions {
     pub ground_truth: bool,
     /// Most distinct obstacles (ids beyond are fail-safe events).
     pub max_obstacles: u32,
+    /// For a planar certificate: positions and velocities stay in the plane, in the frame
+    /// whose origin and x axis are `lane_axis` (default: the odometry frame itself), and
+    /// items are [`BagItem::PlanarSample`]s and [`BagItem::PlanarRobot`]s. An observation is
+    /// taken as the obstacle's position at the instant it is due at (latency is not
+    /// monitored on planar traces); the robot's speed is its velocity's norm.
+    pub plane: bool,
 }
 
 impl Default for BagOptions {
@@ -97,6 +104,7 @@ impl Default for BagOptions {
             obstacle_speed: SpeedSource::Twist,
             ground_truth: false,
             max_obstacles: DEFAULT_MAX_OBSTACLES,
+            plane: false,
         }
     }
 }
@@ -138,6 +146,20 @@ pub enum BagItem {
         /// Its message.
         message: u64,
     },
+    /// With [`BagOptions::plane`]: an obstacle observation at a robot instant.
+    PlanarSample {
+        /// The sample.
+        sample: PlanarSample,
+        /// Its message.
+        message: u64,
+    },
+    /// With [`BagOptions::plane`]: a robot instant at which no obstacle was observed.
+    PlanarRobot {
+        /// The robot.
+        sample: PlanarRobotSample,
+        /// Its message.
+        message: u64,
+    },
     /// A message or part of the bag that cannot be trusted.
     Malformed {
         /// The time, when it could be read.
@@ -155,6 +177,8 @@ impl BagItem {
         match *self {
             BagItem::Sample { message, .. }
             | BagItem::Robot { message, .. }
+            | BagItem::PlanarSample { message, .. }
+            | BagItem::PlanarRobot { message, .. }
             | BagItem::Malformed { message, .. } => message,
         }
     }
@@ -164,6 +188,8 @@ impl BagItem {
         match *self {
             BagItem::Sample { sample, .. } => Some(sample.t),
             BagItem::Robot { sample, .. } => Some(sample.t),
+            BagItem::PlanarSample { sample, .. } => Some(sample.t),
+            BagItem::PlanarRobot { sample, .. } => Some(sample.t),
             BagItem::Malformed { t, .. } => t,
         }
     }
@@ -178,9 +204,36 @@ impl Monitor {
             BagItem::Sample { sample, .. } => self.observe_named(ids, &sample, Lanes::UNKNOWN),
             BagItem::Robot { sample, .. } => self.observe_robot(&sample, Lanes::UNKNOWN),
             BagItem::Malformed { t, detail, .. } => self.malformed(t, detail),
+            // A bag read for a planar certificate: not a line's sample.
+            BagItem::PlanarSample { sample, .. } => self.malformed(Some(sample.t), PLANAR_ITEM),
+            BagItem::PlanarRobot { sample, .. } => self.malformed(Some(sample.t), PLANAR_ITEM),
         }
     }
 }
+
+const PLANAR_ITEM: Detail =
+    Detail::BadMessage("a planar sample (the bag was read with BagOptions::plane)");
+
+impl PlanarMonitor {
+    /// Checks one item of a bag read with [`BagOptions::plane`]: a planar sample (its
+    /// obstacle named by `ids` and matched to the certificate's by that name), a robot-only
+    /// instant, or a fail-safe event.
+    pub fn observe_bag_item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_> {
+        match *item {
+            BagItem::PlanarSample { sample, .. } => {
+                self.identify_once(sample.obstacle_id, ids.name(sample.obstacle_id));
+                self.observe(&sample)
+            }
+            BagItem::PlanarRobot { sample, .. } => self.observe_robot(&sample),
+            BagItem::Malformed { t, detail, .. } => self.malformed(t, detail),
+            BagItem::Sample { sample, .. } => self.malformed(Some(sample.t), LINE_ITEM),
+            BagItem::Robot { sample, .. } => self.malformed(Some(sample.t), LINE_ITEM),
+        }
+    }
+}
+
+const LINE_ITEM: Detail =
+    Detail::BadMessage("a line's sample (the bag was read without BagOptions::plane)");
 
 /// What was read, for the summary and for users looking for a misnamed topic.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

@@ -194,6 +194,10 @@ impl<R: Read> BagReader<R> {
 
     fn robot(&mut self, odom: &Odometry, number: u64) {
         let pose = &odom.pose.pose;
+        if self.instants.axis.is_none() && self.instants.plane {
+            // The plane's frame is the odometry frame unless an axis says otherwise.
+            self.instants.axis = Some(LaneAxis::new([0.0, 0.0], 0.0));
+        }
         if self.instants.axis.is_none() {
             self.instants.axis = LaneAxis::from_pose(pose);
             if self.instants.axis.is_none() {

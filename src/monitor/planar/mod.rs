@@ -135,7 +135,9 @@ struct RobotAt {
 #[derive(Clone, Copy, Debug, Default)]
 struct Track {
     seen: bool,
-    /// [`PlanarMonitor::identify`] matched it: the certificate's obstacle.
+    /// [`PlanarMonitor::identify`] looked its name up, and the certificate's obstacle it
+    /// matched.
+    named: bool,
     certified: Option<usize>,
     /// Instant number and time of its last sample, and its centre then.
     instant: u64,
@@ -234,8 +236,17 @@ impl PlanarMonitor {
         let index = self.rule.obstacles.iter().position(|o| o.name == name);
         if let Some(track) = self.track_mut(id) {
             track.certified = index;
+            track.named = true;
         }
         index.is_some()
+    }
+
+    /// [`PlanarMonitor::identify`] at the id's first sample only (the track remembers that it
+    /// was identified).
+    pub fn identify_once(&mut self, id: ObstacleId, name: &str) {
+        if self.tracks.get(id as usize).is_none_or(|t| !t.named) {
+            self.identify(id, name);
+        }
     }
 
     /// The standing verdict.

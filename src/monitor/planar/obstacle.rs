@@ -72,6 +72,7 @@ impl PlanarMonitor {
         let track = self.track_mut(id).expect("admitted");
         *track = Track {
             seen: true,
+            named: track.named,
             certified,
             instant,
             t: s.t,
