@@ -86,6 +86,26 @@ class Monitor:
     def verdict(self) -> str: ...
     def summary(self) -> dict[str, Any]: ...
 
+class PlanarMonitor:
+    """The runtime monitor for a certified planar certificate (obstacles matched by name)."""
+    def __init__(self, certificate: Certificate) -> None: ...
+    def observe(
+        self,
+        t: float,
+        robot_x: float,
+        robot_y: float,
+        robot_v: float,
+        obstacle: Optional[str] = None,
+        obstacle_x: float = 0.0,
+        obstacle_y: float = 0.0,
+        obstacle_vx: Optional[float] = None,
+        obstacle_vy: Optional[float] = None,
+        robot_mode: Optional[str] = None,
+    ) -> tuple[str, list[dict[str, Any]]]: ...
+    @property
+    def verdict(self) -> str: ...
+    def summary(self) -> dict[str, Any]: ...
+
 class RegionMap:
     """A certified map of a box of parameters (safereach region)."""
     @staticmethod

@@ -17,6 +17,9 @@ use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
 use safereach::monitor::bag::{BagOptions, BagReader, LaneAxis, SpeedSource};
+use safereach::monitor::planar::{
+    PlanarMonitor as LibPlanarMonitor, PlanarRobotSample, PlanarSample,
+};
 use safereach::monitor::{Monitor as LibMonitor, Sample};
 use safereach::proof::certificate::Certificate as LibCertificate;
 use safereach::proof::certificate_file::CertificateFile;
@@ -493,14 +496,7 @@ impl Monitor {
         obstacle_id: u32,
         robot_mode: Option<&str>,
     ) -> PyResult<(&'static str, Py<PyAny>)> {
-        let mode = match robot_mode {
-            None => None,
-            Some(m) => Some(Mode::from_name(m.as_bytes()).ok_or_else(|| {
-                InputError::new_err(format!(
-                    "robot_mode {m:?}: expected idle, accelerate, drive, brake or stop"
-                ))
-            })?),
-        };
+        let mode = mode_of(robot_mode)?;
         let s = Sample {
             t,
             robot_x,
@@ -686,6 +682,128 @@ impl Monitor {
     }
 }
 
+/// The runtime monitor for a planar certificate (`monitor::planar`): samples of the robot's
+/// centre and one obstacle's, obstacles matched to the certificate's by name.
+#[pyclass(module = "safereach")]
+struct PlanarMonitor {
+    inner: LibPlanarMonitor,
+    /// Obstacle names seen so far, by their integer id (their index).
+    names: Vec<String>,
+}
+
+#[pymethods]
+impl PlanarMonitor {
+    /// A monitor for the planar `certificate`, which must pass `check` as `certified`.
+    #[new]
+    fn new(certificate: &Certificate) -> PyResult<Self> {
+        let CertificateFile::Planar(cert) = &certificate.file else {
+            return Err(CertificateError::new_err(
+                "not a planar certificate: use Monitor for a line's or a scene's",
+            ));
+        };
+        let inner =
+            LibPlanarMonitor::new(cert).map_err(|e| CertificateError::new_err(e.to_string()))?;
+        Ok(PlanarMonitor {
+            inner,
+            names: Vec::new(),
+        })
+    }
+
+    /// Checks one sample: the robot's centre, speed and mode, and the obstacle `obstacle`'s
+    /// seen centre (and velocity, if known); None for the obstacle: a robot-only instant.
+    /// Returns (verdict, events raised by it as dicts).
+    #[pyo3(signature = (t, robot_x, robot_y, robot_v, obstacle = None, obstacle_x = 0.0, obstacle_y = 0.0, obstacle_vx = None, obstacle_vy = None, robot_mode = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn observe(
+        &mut self,
+        py: Python<'_>,
+        t: f64,
+        robot_x: f64,
+        robot_y: f64,
+        robot_v: f64,
+        obstacle: Option<&str>,
+        obstacle_x: f64,
+        obstacle_y: f64,
+        obstacle_vx: Option<f64>,
+        obstacle_vy: Option<f64>,
+        robot_mode: Option<&str>,
+    ) -> PyResult<(&'static str, Py<PyAny>)> {
+        let robot_mode = mode_of(robot_mode)?;
+        let obstacle_velocity = match (obstacle_vx, obstacle_vy) {
+            (Some(x), Some(y)) => Some((x, y)),
+            (None, None) => None,
+            _ => {
+                return Err(InputError::new_err(
+                    "obstacle_vx and obstacle_vy: give both or neither",
+                ));
+            }
+        };
+        let outcome = match obstacle {
+            None => self.inner.observe_robot(&PlanarRobotSample {
+                t,
+                robot_x,
+                robot_y,
+                robot_v,
+                robot_mode,
+            }),
+            Some(name) => {
+                let id = match self.names.iter().position(|n| n == name) {
+                    Some(i) => i as u32,
+                    None => {
+                        self.names.push(name.to_string());
+                        let id = self.names.len() as u32 - 1;
+                        self.inner.identify(id, name);
+                        id
+                    }
+                };
+                self.inner.observe(&PlanarSample {
+                    t,
+                    robot_x,
+                    robot_y,
+                    robot_v,
+                    robot_mode,
+                    obstacle_id: id,
+                    obstacle_x,
+                    obstacle_y,
+                    obstacle_velocity,
+                })
+            }
+        };
+        let events = PyList::empty(py);
+        for e in outcome.events {
+            events.append(event_dict(py, e)?)?;
+        }
+        Ok((outcome.verdict.as_str(), events.into_any().unbind()))
+    }
+
+    /// The standing verdict: `held` or `violated` (latched).
+    #[getter]
+    fn verdict(&self) -> &'static str {
+        self.inner.verdict().as_str()
+    }
+
+    /// The summary (as `monitor --json` reports it), with its `plane` part.
+    fn summary(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        to_py(
+            py,
+            &serde_json::to_value(self.inner.summary()).expect("summaries serialise"),
+        )
+    }
+}
+
+/// The mode a sample names, if any.
+fn mode_of(robot_mode: Option<&str>) -> PyResult<Option<Mode>> {
+    robot_mode
+        .map(|m| {
+            Mode::from_name(m.as_bytes()).ok_or_else(|| {
+                InputError::new_err(format!(
+                    "robot_mode {m:?}: expected idle, accelerate, drive, brake or stop"
+                ))
+            })
+        })
+        .transpose()
+}
+
 /// The safereach module: certify, check, radius and the runtime monitor.
 #[pymodule]
 fn _safereach(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -693,6 +811,7 @@ fn _safereach(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Problem>()?;
     m.add_class::<Certificate>()?;
     m.add_class::<Monitor>()?;
+    m.add_class::<PlanarMonitor>()?;
     m.add_class::<RegionMap>()?;
     m.add_function(wrap_pyfunction!(region, m)?)?;
     m.add_function(wrap_pyfunction!(certify, m)?)?;

@@ -230,3 +230,47 @@ def test_scene_region_maps_range_an_obstacle_and_agree_at_leaf_centres():
     with pytest.raises(sr.InputError) as e:
         sr.region(scene, {"obstacle.3.position": (4.0, 6.0)})
     assert "lane 1" in str(e.value)
+
+
+def test_the_planar_monitor_holds_on_the_witness_trace_and_flags_a_robot_that_drives_on(tmp_path):
+    """A planar certificate's witness trace, as the command line writes and reads it."""
+    binary = ROOT / "target" / "release" / "safereach"
+    if not binary.exists():
+        pytest.skip("the safereach binary is not built")
+    cert_path, trace = tmp_path / "seed.json", tmp_path / "seed.csv"
+    problem = ROOT / "problems" / "planar" / "seed-in-plane.toml"
+    subprocess.run([str(binary), "certify", str(problem), "--out", str(cert_path)], check=True,
+                   stdout=subprocess.DEVNULL)
+    subprocess.run([str(binary), "simulate", "--replay", str(cert_path), "--trace", str(trace)],
+                   check=True, stdout=subprocess.DEVNULL)
+    cert = sr.Certificate.from_json(cert_path.read_text())
+    assert sr.check(cert) == "certified"
+    with pytest.raises(sr.CertificateError):
+        sr.Monitor(cert)
+    rows = read_trace(trace)
+
+    def run(rows):
+        m = sr.PlanarMonitor(cert)
+        events = []
+        for r in rows:
+            v = (float(r["obstacle_vx"]), float(r["obstacle_vy"])) if r["obstacle_vx"] else (None, None)
+            _, raised = m.observe(float(r["t"]), float(r["robot_x"]), float(r["robot_y"]),
+                                  float(r["robot_v"]), obstacle=r["obstacle_id"],
+                                  obstacle_x=float(r["obstacle_x"]),
+                                  obstacle_y=float(r["obstacle_y"]),
+                                  obstacle_vx=v[0], obstacle_vy=v[1],
+                                  robot_mode=r["robot_mode"])
+            events += raised
+        return m, events
+
+    m, events = run(rows)
+    assert (m.verdict, events) == ("held", [])
+    summary = m.summary()
+    assert summary["plane"]["obstacles"][0]["seen"] and summary["samples"] == len(rows)
+    brake = next(i for i, r in enumerate(rows) if r["robot_mode"] == "brake")
+    rows[brake]["robot_mode"] = "drive"
+    m, events = run(rows)
+    assert m.verdict == "violated"
+    assert [e["premise"] for e in events] == ["controller_reaction"]
+    with pytest.raises(sr.CertificateError):
+        sr.PlanarMonitor(sr.certify(seed()))
