@@ -5,11 +5,12 @@ use safereach::monitor::Verdict;
 use safereach::monitor::bag::{BagItem, BagOptions, BagReader};
 
 use super::assert_user_message;
-use super::trace::seed_monitor;
+use super::trace::{planar_monitor, seed_monitor};
 
 /// The bag target's body: reads `data` as a bag with the topics the committed corpus uses
 /// (obstacles on `/obstacles/*`, the mode on `/mode`), once with observation stamps and once
-/// as ground truth, each with modes stated and inferred. Asserts: no panic; every unreadable
+/// as ground truth, each with modes stated and inferred, and once in the plane against a
+/// planar monitor. Asserts: no panic; every unreadable
 /// part is a violation and a verdict once violated stays so; every item is one sample;
 /// events read in the user's terms; the summary agrees with the counts; and reading stops.
 ///
@@ -82,4 +83,34 @@ fn run(data: &[u8]) {
         assert_eq!(summary.samples, fed);
         assert_eq!(summary.verdict, monitor.verdict());
     }
+    // In the plane, against a planar certificate's premises: the same guarantees.
+    let options = BagOptions {
+        obstacle_topics: vec!["/obstacles/*".into()],
+        mode_topic: Some("/mode".into()),
+        plane: true,
+        ..BagOptions::default()
+    };
+    let mut reader = BagReader::new(data, &options).expect("the options are valid");
+    let mut monitor = planar_monitor().clone();
+    let mut fed = 0u64;
+    while let Some(item) = reader.next_item() {
+        let was = monitor.verdict();
+        let malformed = matches!(item, BagItem::Malformed { .. });
+        let outcome = monitor.observe_bag_item(reader.ids(), &item);
+        fed += 1;
+        if malformed || was == Verdict::Violated {
+            assert_eq!(
+                outcome.verdict,
+                Verdict::Violated,
+                "fail safe, latched (plane)"
+            );
+        }
+        for event in outcome.events {
+            assert_user_message(&event.to_string(), "");
+        }
+        assert!(fed <= 4 * (reader.stats().observations + reader.stats().messages) + 2);
+    }
+    let summary = monitor.summary();
+    assert_eq!(summary.samples, fed);
+    assert_eq!(summary.verdict, monitor.verdict());
 }

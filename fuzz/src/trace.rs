@@ -115,7 +115,7 @@ fn monitor(trace: &[u8], format: Option<Format>) -> (Run, Option<Format>) {
 
 /// The planar monitor the trace targets also feed: the Nav2-style stop polygon's premises
 /// (polygon zone, range, a destination), built once.
-fn planar_monitor() -> &'static PlanarMonitor {
+pub(crate) fn planar_monitor() -> &'static PlanarMonitor {
     static MONITOR: OnceLock<PlanarMonitor> = OnceLock::new();
     MONITOR.get_or_init(|| {
         let text = include_str!("../../problems/planar/nav2-stop-polygon.toml");

@@ -38,7 +38,7 @@ pub struct SceneRadius {
     pub cap: f64,
     /// The analysis at `value` (certified), or at the cap when there is no radius.
     pub at: SceneAnswer,
-    /// The analysis [`PROBE_OFFSET`] below `value` (not certified), when the search
+    /// The analysis `PROBE_OFFSET` below `value` (not certified), when the search
     /// bracketed one.
     pub below: Option<SceneAnswer>,
 }
@@ -183,7 +183,7 @@ pub struct SceneMaxSpeed {
     pub unbounded: bool,
     /// The analysis at `value` (certified), or at 0 when there is none.
     pub at: SceneAnswer,
-    /// The analysis [`PROBE_OFFSET`] above `value` (not certified).
+    /// The analysis `PROBE_OFFSET` above `value` (not certified).
     pub above: Option<SceneAnswer>,
 }
 

@@ -138,6 +138,13 @@
 //! | `obstacle_lane` | a named obstacle's `obstacle_lane` differs from its certified lane | lane | certified lane |
 //! | `collision` | `robot_v` > 0 and the separation (the gap, or minus the gap for an obstacle beside or behind when the robot entered its lane) ≤ clearance, less rounding | separation (m) | clearance |
 //!
+//! # Planar certificates
+//!
+//! [`planar::PlanarMonitor`] monitors a planar certificate's premises on traces in the plane
+//! (robot and obstacle centres), with the same [`Event`]s and [`Summary`] (its `plane` part
+//! added) and the planar checks [`PlaneCheck`]; `Monitor` refuses planar certificates
+//! ([`MonitorError::Planar`]).
+//!
 //! # Where things are
 //!
 //! The premises are the certificate's typed list,

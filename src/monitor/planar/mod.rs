@@ -4,12 +4,12 @@
 //! `brake`.
 //!
 //! [`PlanarMonitor::new`] takes a planar certificate, runs
-//! [`check_planar`](crate::proof::planar::check::check_planar) on it, refuses any verdict but
+//! `check_planar` (the planar certificate's solver-free check) on it, refuses any verdict but
 //! `certified`, and reads what was assumed from the certificate's own problem. Then
 //! [`PlanarMonitor::observe`] takes one [`PlanarSample`] (the robot's centre, speed and mode
 //! and one obstacle's centre, optionally its velocity) and returns the standing verdict and
 //! the [`Event`]s it raised, as the line's monitor does; [`PlanarMonitor::summary`] is the
-//! same [`Summary`], with a `plane` part. Trace obstacles are matched to the certificate's by
+//! same [`Summary`](super::Summary), with a `plane` part. Trace obstacles are matched to the certificate's by
 //! name ([`PlanarMonitor::identify`]); an object no obstacle of the certificate names is an
 //! `uncertified_obstacle` (the proof says nothing about it) and is held to the largest speed
 //! bound.
