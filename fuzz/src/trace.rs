@@ -4,9 +4,9 @@
 use std::sync::OnceLock;
 
 use safereach::core::planar::PlanarProblem;
-use safereach::monitor::planar::{PlanarMonitor, PlanarRobotSample, PlanarSample};
+use safereach::monitor::planar::PlanarMonitor;
 use safereach::monitor::trace::{Decoded, Decoder, Format, Line, Lines};
-use safereach::monitor::{DEFAULT_MAX_OBSTACLES, Detail, Field, Monitor, Outcome, Verdict};
+use safereach::monitor::{DEFAULT_MAX_OBSTACLES, Monitor, Outcome, Verdict};
 use safereach::proof::certificate_file::CertificateFile;
 
 use super::assert_user_message;
@@ -131,7 +131,6 @@ pub(crate) fn planar_monitor() -> &'static PlanarMonitor {
 fn monitor_planar(trace: &[u8], format: Option<Format>) {
     let mut monitor = planar_monitor().clone();
     let mut decoder = Decoder::new(format, None, DEFAULT_MAX_OBSTACLES);
-    let mut named = std::collections::HashSet::new();
     let mut fed = 0;
     let mut lines = Lines::new(trace);
     while let Some((_, line)) = lines.next_line(|| Ok(())).expect("lines") {
@@ -139,70 +138,26 @@ fn monitor_planar(trace: &[u8], format: Option<Format>) {
             panic!("no line of an input under 1 MiB is too long");
         };
         let was = monitor.verdict();
-        let missing = |m: &mut PlanarMonitor, t: f64, f: Field| -> Verdict {
-            m.malformed(Some(t), Detail::MissingField(f)).verdict
-        };
-        let verdict = match decoder.decode(line) {
+        let (outcome, malformed): (Outcome<'_>, bool) = match decoder.decode(line) {
             Decoded::Blank | Decoded::Header => continue,
-            Decoded::Sample { sample, .. } => {
-                let cells = decoder.plane();
-                match (cells.robot_y, cells.obstacle_y) {
-                    (Some(robot_y), Some(obstacle_y)) => {
-                        if named.insert(sample.obstacle_id) {
-                            monitor.identify(
-                                sample.obstacle_id,
-                                decoder.ids().name(sample.obstacle_id),
-                            );
-                        }
-                        let s = PlanarSample {
-                            t: sample.t,
-                            robot_x: sample.robot_x,
-                            robot_y,
-                            robot_v: sample.robot_v,
-                            robot_mode: sample.robot_mode,
-                            obstacle_id: sample.obstacle_id,
-                            obstacle_x: sample.obstacle_x,
-                            obstacle_y,
-                            obstacle_velocity: cells.obstacle_vx.zip(cells.obstacle_vy),
-                        };
-                        let outcome: Outcome<'_> = monitor.observe(&s);
-                        let line_text = String::from_utf8_lossy(line);
-                        for event in outcome.events {
-                            assert_user_message(&event.to_string(), &line_text);
-                        }
-                        outcome.verdict
-                    }
-                    (None, _) => missing(&mut monitor, sample.t, Field::RobotY),
-                    (_, None) => missing(&mut monitor, sample.t, Field::ObstacleY),
-                }
+            Decoded::Sample { sample, .. } => (monitor.observe_decoded(&decoder, &sample), false),
+            Decoded::Robot { sample, .. } => {
+                (monitor.observe_decoded_robot(&decoder, &sample), false)
             }
-            Decoded::Robot { sample, .. } => match decoder.plane().robot_y {
-                Some(robot_y) => {
-                    let r = PlanarRobotSample {
-                        t: sample.t,
-                        robot_x: sample.robot_x,
-                        robot_y,
-                        robot_v: sample.robot_v,
-                        robot_mode: sample.robot_mode,
-                    };
-                    monitor.observe_robot(&r).verdict
-                }
-                None => missing(&mut monitor, sample.t, Field::RobotY),
-            },
-            Decoded::Malformed { t, detail, .. } => {
-                let verdict = monitor.malformed(t, detail).verdict;
-                assert_eq!(
-                    verdict,
-                    Verdict::Violated,
-                    "an unreadable line must violate"
-                );
-                verdict
-            }
+            Decoded::Malformed { t, detail, .. } => (monitor.malformed(t, detail), true),
         };
-        fed += 1;
-        if was == Verdict::Violated {
-            assert_eq!(verdict, Verdict::Violated, "a violation was forgotten");
+        if malformed || was == Verdict::Violated {
+            assert_eq!(
+                outcome.verdict,
+                Verdict::Violated,
+                "fail safe, latched (plane)"
+            );
         }
+        let line_text = String::from_utf8_lossy(line);
+        for event in outcome.events {
+            assert_user_message(&event.to_string(), &line_text);
+        }
+        fed += 1;
     }
     let summary = monitor.summary();
     assert_eq!(summary.verdict, monitor.verdict());

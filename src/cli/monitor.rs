@@ -43,7 +43,7 @@ use safereach::monitor::planar::PlaneSummary;
 use safereach::monitor::trace::{Columns, Decoded, Decoder, Format, Ids, Line, Lines, MAX_LINE};
 use safereach::monitor::{
     Check, CheckSummary, DEFAULT_MAX_OBSTACLES, Detail, Event, Margin, Monitor, Outcome,
-    PremiseSummary, RegionPoint, SceneSummary, Status, Summary, Verdict,
+    PremiseSummary, RegionPoint, RobotSample, Sample, SceneSummary, Status, Summary, Verdict,
 };
 use safereach::proof::certificate_file::{CertificateFile, is_region_map};
 use safereach::proof::json_read::from_json;
@@ -245,7 +245,7 @@ fn lane_axis(text: &str) -> Result<LaneAxis, String> {
 }
 
 /// Bag flags given with a text trace are a mistake worth naming.
-fn no_bag_flags(args: &MonitorArgs) -> Result<()> {
+pub(super) fn no_bag_flags(args: &MonitorArgs) -> Result<()> {
     let given = [
         (args.robot_topic.is_some(), "--robot-topic"),
         (!args.obstacle_topics.is_empty(), "--obstacle-topic"),
@@ -264,10 +264,9 @@ fn no_bag_flags(args: &MonitorArgs) -> Result<()> {
     Ok(())
 }
 
-/// A monitoring session, validated from [`MonitorArgs`]: the certificate's monitor, the
-/// trace's decoder, the input and how to print.
+/// A text trace to monitor, validated from [`MonitorArgs`]: its decoder, the input and how
+/// to print.
 struct Session {
-    monitor: Monitor,
     decoder: Decoder,
     input: Box<dyn Read + Send>,
     /// The input as named in errors: the trace's path, or `standard input`.
@@ -276,11 +275,9 @@ struct Session {
 }
 
 impl Session {
-    /// Reads the certificate (it must pass `check` and be `certified`), parses `--columns`,
-    /// settles the format and opens the trace, in that order.
-    fn new(args: &MonitorArgs) -> Result<Session> {
-        no_bag_flags(args)?;
-        let monitor = certificate_monitor(args)?;
+    /// Parses `--columns`, settles the format and opens the trace, in that order (after the
+    /// certificate has been read: its errors come first).
+    fn open(args: &MonitorArgs) -> Result<Session> {
         let columns = args
             .columns
             .as_deref()
@@ -293,7 +290,7 @@ impl Session {
             Some(FormatArg::Csv) => Some(Format::Csv),
             Some(FormatArg::Jsonl) => Some(Format::Jsonl),
             None if live => None,
-            Some(FormatArg::Mcap) => unreachable!("bags are read by run_bag"),
+            Some(FormatArg::Mcap) => unreachable!("bags are read by read_bag"),
             None => Format::from_path(&args.trace),
         };
         let input: Box<dyn Read + Send> = if live {
@@ -305,7 +302,6 @@ impl Session {
             )
         };
         Ok(Session {
-            monitor,
             decoder: Decoder::new(format, columns, DEFAULT_MAX_OBSTACLES),
             input,
             origin: if live {
@@ -321,22 +317,29 @@ impl Session {
 /// Runs `safereach monitor`: exit 0 every premise held, 1 a violation.
 pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
     if let Some(cert) = super::planar_monitor::planar_certificate(&args)? {
-        if is_bag(&args) {
-            return super::planar_monitor::run_bag(&args, &cert, out);
-        }
-        no_bag_flags(&args)?;
         return super::planar_monitor::run(&args, &cert, out);
     }
     if is_bag(&args) {
         return run_bag(&args, out);
     }
+    no_bag_flags(&args)?;
+    let monitor = certificate_monitor(&args)?;
+    read_text(&args, monitor, out)
+}
+
+/// Reads the text trace `args` names line by line, checking every sample with `monitor` and
+/// printing as it goes; the summary and exit status at the end.
+pub(super) fn read_text(
+    args: &MonitorArgs,
+    mut monitor: impl TraceMonitor,
+    out: &mut Output,
+) -> Result<Exit> {
     let Session {
-        mut monitor,
         mut decoder,
         input,
         origin,
         mut printer,
-    } = Session::new(&args)?;
+    } = Session::open(args)?;
     // Verdicts are printed in large blocks, and flushed before every read that may block.
     let mut out = BufWriter::with_capacity(1 << 16, out);
     let input = Interruptible::new(input).context("listening for Ctrl-C and SIGTERM")?;
@@ -357,12 +360,11 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
             Line::Text(bytes) => match decoder.decode(bytes) {
                 Decoded::Blank | Decoded::Header => continue,
                 Decoded::Sample { sample, t_text } => {
-                    (Some(t_text), monitor.observe_decoded(&decoder, &sample))
+                    (Some(t_text), monitor.sample(&decoder, &sample))
                 }
-                Decoded::Robot { sample, t_text } => (
-                    Some(t_text),
-                    monitor.observe_robot(&sample, decoder.lanes()),
-                ),
+                Decoded::Robot { sample, t_text } => {
+                    (Some(t_text), monitor.robot(&decoder, &sample))
+                }
                 Decoded::Malformed { t, t_text, detail } => (t_text, monitor.malformed(t, detail)),
             },
         };
@@ -382,7 +384,8 @@ pub fn run(args: MonitorArgs, out: &mut Output) -> Result<Exit> {
         // The summary still says what was read: a stopped monitor must not lose it.
         eprintln!("{origin}: interrupted by {signal}; the summary covers what was read");
     }
-    finish(&monitor, &printer, &mut out, &origin)
+    let (summary, checked) = monitor.summary();
+    finish(&summary, checked, &printer, &mut out, &origin)
 }
 
 /// `safereach monitor` on a ROS 2 bag: the same checks and output, with samples assembled
@@ -394,19 +397,34 @@ fn run_bag(args: &MonitorArgs, out: &mut Output) -> Result<Exit> {
     read_bag(args, &options, monitor, out)
 }
 
-/// What a bag is checked by: the line's monitor, or the planar one.
-pub(super) trait BagMonitor {
+/// What a trace or a bag is checked by: the line's monitor, or the planar one.
+pub(super) trait TraceMonitor {
     /// The standing verdict.
     fn verdict(&self) -> Verdict;
-    /// Checks one item of the bag.
+    /// Checks a decoded sample (its obstacle and any extra cells from `decoder`).
+    fn sample(&mut self, decoder: &Decoder, s: &Sample) -> Outcome<'_>;
+    /// Checks a decoded robot-only sample.
+    fn robot(&mut self, decoder: &Decoder, r: &RobotSample) -> Outcome<'_>;
+    /// Reports a line that is not a sample.
+    fn malformed(&mut self, t: Option<f64>, detail: Detail) -> Outcome<'_>;
+    /// Checks one item of a bag.
     fn item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_>;
     /// The summary so far, and whether anything was checked.
     fn summary(&self) -> (Summary, bool);
 }
 
-impl BagMonitor for Monitor {
+impl TraceMonitor for Monitor {
     fn verdict(&self) -> Verdict {
         Monitor::verdict(self)
+    }
+    fn sample(&mut self, decoder: &Decoder, s: &Sample) -> Outcome<'_> {
+        self.observe_decoded(decoder, s)
+    }
+    fn robot(&mut self, decoder: &Decoder, r: &RobotSample) -> Outcome<'_> {
+        self.observe_robot(r, decoder.lanes())
+    }
+    fn malformed(&mut self, t: Option<f64>, detail: Detail) -> Outcome<'_> {
+        Monitor::malformed(self, t, detail)
     }
     fn item(&mut self, ids: &Ids, item: &BagItem) -> Outcome<'_> {
         self.observe_bag_item(ids, item)
@@ -421,7 +439,7 @@ impl BagMonitor for Monitor {
 pub(super) fn read_bag(
     args: &MonitorArgs,
     options: &BagOptions,
-    mut monitor: impl BagMonitor,
+    mut monitor: impl TraceMonitor,
     out: &mut Output,
 ) -> Result<Exit> {
     let live = args.trace.as_os_str() == "-";
@@ -467,7 +485,7 @@ pub(super) fn read_bag(
     }
     bag_note(&origin, options, &stats);
     let (summary, checked) = monitor.summary();
-    finish_with(&summary, checked, &printer, &mut out, &origin)
+    finish(&summary, checked, &printer, &mut out, &origin)
 }
 
 /// What was read from a bag, on standard error: the counts, and the bag's topics when the
@@ -504,22 +522,6 @@ fn bag_note(origin: &str, options: &BagOptions, stats: &BagStats) {
 /// Prints the summary of what was read; the exit status: the verdict's, or 2 when no sample
 /// could be checked (an empty trace, or one of only unreadable lines).
 fn finish(
-    monitor: &Monitor,
-    printer: &Printer,
-    out: &mut impl Write,
-    origin: &str,
-) -> Result<Exit> {
-    finish_with(
-        &monitor.summary(),
-        monitor.checked_anything(),
-        printer,
-        out,
-        origin,
-    )
-}
-
-/// [`finish`] with the summary given (of any monitor).
-pub(super) fn finish_with(
     summary: &Summary,
     checked: bool,
     printer: &Printer,

@@ -55,6 +55,7 @@ use super::{
     RELATIVE_TOLERANCE, Verdict, require_certified,
 };
 
+mod decoded;
 mod geometry;
 mod obstacle;
 mod robot;

@@ -16,6 +16,20 @@ use crate::monitor::check::{ROUNDING, rounding};
 use crate::monitor::event::Violation;
 use crate::monitor::{Check, RELATIVE_TOLERANCE};
 
+/// What one sample shows of a certified obstacle, for the reaction it may call for.
+#[derive(Clone, Copy)]
+struct Seen {
+    /// Its centre relative to the robot's (m), and the separation (m).
+    rel: Xy,
+    separation: f64,
+    /// Its speed from its last two centres, the least the noise allows (m/s).
+    estimated: Option<f64>,
+    /// It no longer hides.
+    revealed: bool,
+    /// The rounding of the separation.
+    extra: f64,
+}
+
 impl PlanarMonitor {
     /// Every check of the obstacle sample `s`, whose track was `track` before it.
     pub(super) fn check_obstacle(&mut self, s: &PlanarSample, track: Track) {
@@ -49,8 +63,8 @@ impl PlanarMonitor {
         } else if track.must_reappear && track.instant + 1 == self.instant {
             self.count(Check::ObservationDropout);
         }
-        if let Some(region) = certified.and_then(|i| self.rule.obstacles[i].region.clone()) {
-            let outside = polygon_distance(&region, at);
+        let region = certified.and_then(|i| self.rule.obstacles[i].region.as_deref());
+        if let Some(outside) = region.map(|r| polygon_distance(r, at)) {
             self.count_with_slack(Check::ObstacleRegion, sigma - outside, s.t);
             if !within(outside, sigma, ROUNDING * norm(at)) {
                 let v = Violation::of_input(Check::ObstacleRegion, Some(s.t), Some(id));
@@ -59,14 +73,22 @@ impl PlanarMonitor {
         }
         let estimated = self.check_speed(s, &track, at, w);
         self.check_collision(s, &robot, separation, extra);
-        if let Some(i) = certified {
-            self.owe_reaction(s, &robot, i, rel, separation, estimated, extra);
-        }
+        // With d_det: once surely within it, it no longer hides.
         let revealed = track.revealed
             || self
                 .rule
                 .first_detection
                 .is_some_and(|d| separation + sigma + extra <= d);
+        if let Some(i) = certified {
+            let seen = Seen {
+                rel,
+                separation,
+                estimated,
+                revealed,
+                extra,
+            };
+            self.owe_reaction(s, &robot, i, &seen);
+        }
         let must_reappear = self.stays_in_view(&robot, centre_distance, w, extra);
         let instant = self.instant;
         let track = self.track_mut(id).expect("admitted");
@@ -246,28 +268,17 @@ impl PlanarMonitor {
     /// The reaction the sample's observation calls for, if it shows danger or a wrong
     /// assumption while the robot accelerates or drives: due when the controller has it, L
     /// periods on; judged now if that is now.
-    #[allow(clippy::too_many_arguments)]
-    fn owe_reaction(
-        &mut self,
-        s: &PlanarSample,
-        robot: &RobotAt,
-        i: usize,
-        rel: Xy,
-        separation: f64,
-        estimated: Option<f64>,
-        extra: f64,
-    ) {
+    fn owe_reaction(&mut self, s: &PlanarSample, robot: &RobotAt, i: usize, seen: &Seen) {
         if !matches!(robot.mode, Some(Mode::Accelerate | Mode::Drive)) {
             return;
         }
-        let revealed = self
-            .tracks
-            .get(s.obstacle_id as usize)
-            .is_some_and(|t| t.revealed)
-            || self
-                .rule
-                .first_detection
-                .is_some_and(|d| separation + self.rule.position_noise + extra <= d);
+        let Seen {
+            rel,
+            separation,
+            estimated,
+            revealed,
+            extra,
+        } = *seen;
         if !self.surely_in_view(robot, rel, revealed, extra) {
             return;
         }

@@ -209,19 +209,16 @@ impl PlanarMonitor {
     /// instant where it had to stay in view, missing from the closing one.
     fn check_dropouts(&mut self, t: f64) {
         let closing = self.instant;
-        let missing: Vec<usize> = (0..self.tracks.len())
-            .filter(|&i| {
-                let k = &self.tracks[i];
-                k.seen && k.must_reappear && k.instant + 1 == closing
-            })
-            .collect();
-        for i in missing {
+        for i in 0..self.tracks.len() {
+            let k = self.tracks[i];
+            if !(k.seen && k.must_reappear && k.instant + 1 == closing) {
+                continue;
+            }
             self.tracks[i].must_reappear = false;
-            let separation = self.tracks[i].separation;
             self.count(Check::ObservationDropout);
             let v = Violation::of_input(Check::ObservationDropout, Some(t), Some(i as u32))
                 .detail(Detail::DropoutInView);
-            self.raise(v.observed(separation));
+            self.raise(v.observed(k.separation));
         }
     }
 }
