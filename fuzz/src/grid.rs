@@ -5,7 +5,8 @@
 //! as `/dev/zero` is read without a size limit: unbounded input, issue 15 item 6, not this
 //! target's business). Properties: a grid read has at least one cell, its cell count is the
 //! product of its axes' lengths without overflow, and the first, middle and last cells have
-//! one value of each axis, in axis order, and make a valid problem or scene or an error in
+//! one value of each axis, in axis order, and make a valid problem, scene or planar problem (whose
+//! exact parameters build) or an error in
 //! the user's terms; a grid refused says why in the user's terms.
 
 use std::path::Path;
@@ -69,6 +70,8 @@ pub fn fuzz_grid(data: &[u8], problems: &Path) {
         match grid.input(cell) {
             Ok(CellInput::Problem(p)) => p.validate("cell").expect("a cell's problem is valid"),
             Ok(CellInput::Scene(s)) => s.validate("cell").expect("a cell's scene is valid"),
+            // Read and validated by the planar reader; what the engines take must build.
+            Ok(CellInput::Planar(p)) => drop(p.params()),
             Err(e) => assert_user_message(&e.to_string(), text),
         }
         if let Err(e) = grid.problem(cell) {

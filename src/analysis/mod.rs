@@ -23,6 +23,7 @@ pub mod scene_worst;
 pub mod simplex;
 pub mod sweep;
 pub mod sweep_file;
+pub mod sweep_planar;
 
 pub use analyse::*;
 pub use monte_carlo::{MonteCarlo, monte_carlo, monte_carlo_run, random_speeds};

@@ -30,6 +30,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::scene_answer::SceneAnswer;
 use crate::analysis::scene_worst::SceneWorstCase;
 use crate::analysis::sweep_file::SweepFile;
+pub use crate::analysis::sweep_planar::PlanarClosest;
 use crate::analysis::{self, Options, SpeedPattern, Verdict, WitnessPolicy};
 use crate::core::budget::{Budget, Meter, OverBudget, Work, grouped};
 pub use crate::core::grid::{CellInput, Grid, GridError};
@@ -70,6 +71,14 @@ pub struct CellResult {
     /// for single-obstacle cells, and when the scene analyser found none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst: Option<SceneWorstCase>,
+    /// s* ≤ this: a replayed behaviour's separation (planar cells with a witness; absent
+    /// elsewhere).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub upper_bound: Option<f64>,
+    /// A planar cell's worst case: the obstacle its witness brings closest, when, and why
+    /// the robot braked (absent elsewhere).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub closest: Option<PlanarClosest>,
 }
 
 /// The axis values of a cell as JSON, keyed by dotted key.
@@ -114,6 +123,8 @@ fn scene_cell(
         pieces: a.cases(),
         programs: a.programs(),
         worst: a.worst_case(),
+        upper_bound: None,
+        closest: None,
     })
 }
 
@@ -152,6 +163,8 @@ impl Grid {
             let horizon = match &input {
                 CellInput::Problem(p) => simulate::horizon(&p.params::<f64>()),
                 CellInput::Scene(s) => crate::core::scene::simulate::horizon(&s.params::<f64>()),
+                // A random planar run ends at rest, or after this many periods.
+                CellInput::Planar(_) => crate::analysis::planar::MAX_RUN_STEPS,
             };
             let work = (runs as u64).saturating_mul(horizon as u64);
             meter.charge(
@@ -162,6 +175,18 @@ impl Grid {
         let problem = match input {
             CellInput::Problem(p) => p,
             CellInput::Scene(s) => return scene_cell(cell, &values, &s, runs, seed),
+            CellInput::Planar(p) => {
+                let sets: Vec<String> = values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                let origin = self.base_path.display().to_string();
+                return crate::analysis::sweep_planar::planar_cell(
+                    cell,
+                    axes_map(&values),
+                    (&self.base_text, &origin),
+                    &sets,
+                    &p,
+                    (runs, seed),
+                );
+            }
         };
         let a = analysis::analyse_with(
             &problem,
@@ -189,6 +214,8 @@ impl Grid {
             pieces: a.outcomes.len(),
             programs: a.programs_solved,
             worst: None,
+            upper_bound: None,
+            closest: None,
         })
     }
 
@@ -235,6 +262,7 @@ impl Grid {
             let base = match self.input_with(&[])? {
                 CellInput::Problem(p) => simulate::horizon(&p.params::<f64>()),
                 CellInput::Scene(s) => crate::core::scene::simulate::horizon(&s.params::<f64>()),
+                CellInput::Planar(_) => crate::analysis::planar::MAX_RUN_STEPS,
             };
             let needed = (share as u64)
                 .checked_mul(runs as u64)

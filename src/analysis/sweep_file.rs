@@ -123,7 +123,7 @@ impl SweepFile {
     }
 
     /// The cells as CSV with a header: cell, the axes, then the results (scene cells add
-    /// their worst case). The CSV is a view; the JSON Lines file is what merges and reports
+    /// their worst case, planar cells their upper bound and closest obstacle). The CSV is a view; the JSON Lines file is what merges and reports
     /// read.
     pub fn to_csv(&self) -> String {
         let keys: Vec<String> = self.provenance.axes.keys().cloned().collect();
@@ -151,6 +151,13 @@ pub fn cells_csv(results: &[CellResult], axis_keys: &[String]) -> String {
     let scene = results.iter().any(|r| r.worst.is_some());
     if scene {
         out.push_str(",worst_obstacle,worst_lane,worst_cause");
+    }
+    // Planar cells add the witness's bound and its closest obstacle.
+    let planar = results
+        .iter()
+        .any(|r| r.upper_bound.is_some() || r.closest.is_some());
+    if planar {
+        out.push_str(",upper_bound,closest_obstacle,closest_at,closest_guard");
     }
     out.push('\n');
     for r in results {
@@ -182,6 +189,18 @@ pub fn cells_csv(results: &[CellResult], axis_keys: &[String]) -> String {
                 ));
             } else {
                 out.push_str(",,,");
+            }
+        }
+        if planar {
+            out.push_str(&format!(",{}", opt(r.upper_bound)));
+            match &r.closest {
+                Some(c) => out.push_str(&format!(
+                    ",{},{},{}",
+                    csv_quoted(&c.obstacle),
+                    c.at,
+                    c.guard.as_deref().map(csv_quoted).unwrap_or_default()
+                )),
+                None => out.push_str(",,,"),
             }
         }
         out.push('\n');

@@ -8,7 +8,9 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use safereach::analysis::planar::{PlanarTraceRow, planar_monte_carlo, planar_trace};
+use safereach::analysis::planar::{
+    MAX_RUN_STEPS, PlanarTraceRow, planar_monte_carlo, planar_trace,
+};
 use safereach::core::planar::PlanarProblem;
 use safereach::core::show::{up, value};
 use safereach::proof::certificate_file::CertificateFile;
@@ -17,9 +19,6 @@ use safereach::proof::planar::witness_record;
 
 use super::exit::Exit;
 use super::output::{Output, write_file};
-
-/// The most control periods one planar run may take (it ends earlier at rest).
-const MAX_STEPS: usize = 3000;
 
 #[derive(Serialize)]
 struct PlanarSimulation {
@@ -43,7 +42,7 @@ pub fn random(
     out: &mut Output,
 ) -> Result<Exit> {
     let params = problem.params();
-    let found = planar_monte_carlo(&params, runs, seed, MAX_STEPS);
+    let found = planar_monte_carlo(&params, runs, seed, MAX_RUN_STEPS);
     let closest = found.closest.as_ref();
     let report = PlanarSimulation {
         problem: problem.name.clone(),

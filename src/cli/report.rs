@@ -19,7 +19,7 @@ use super::sweep::{counts, run_grid, write_sweep};
 /// Arguments of `safereach report`.
 #[derive(clap::Args)]
 pub struct ReportArgs {
-    /// Grid files (default: every `problems/*grid*.toml`).
+    /// Grid files (default: every `problems/*grid*.toml` and `problems/planar/*grid*.toml`).
     grids: Vec<PathBuf>,
     /// Report sweep results (whole, or shards merged) from these directories or files
     /// instead of sweeping; repeatable, or several after one --from. Results of another
@@ -68,10 +68,12 @@ pub fn run(args: ReportArgs, out: &mut Output) -> Result<Exit> {
     Ok(Exit::Pass)
 }
 
-/// Every `problems/*grid*.toml`, sorted.
+/// Every `problems/*grid*.toml` and `problems/planar/*grid*.toml`, sorted.
 fn shipped_grids() -> Result<Vec<PathBuf>> {
+    let planar = std::fs::read_dir("problems/planar").into_iter().flatten();
     let mut found: Vec<PathBuf> = std::fs::read_dir("problems")
         .context("reading problems/ (run from the repository root, or name the grid files)")?
+        .chain(planar)
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             let n = p
@@ -91,7 +93,8 @@ fn write_report(grid: &Grid, sweep: &SweepFile, dir: &Path) -> Result<PathBuf> {
     let results = &sweep.cells;
     let curve = report::radius_curve(grid).map_err(anyhow::Error::msg)?;
     let map = report::certified_map(grid).map_err(anyhow::Error::msg)?;
-    let rep = report::grid_report(grid, results, &curve, map.as_ref());
+    let views = report::planar_views(grid, results).map_err(anyhow::Error::msg)?;
+    let rep = report::grid_report(grid, results, &curve, map.as_ref(), &views);
     let md = dir.join(format!("{}.md", grid.name));
     write_file(&md, rep.markdown.as_bytes())?;
     for (name, svg) in &rep.figures {

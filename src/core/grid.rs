@@ -1,4 +1,4 @@
-//! A grid of problems: a base problem (or scene) and axes over its dotted keys, the cells
+//! A grid of problems: a base problem (line, scene or planar) and axes over its dotted keys, the cells
 //! being their cartesian product. This module reads and validates grid files and builds
 //! each cell's input; running the cells is the analyser's (`analysis::sweep`), so the grid
 //! reader is part of the lean library (what a fuzz target or another front end links).
@@ -21,6 +21,7 @@ use serde::Deserialize;
 
 use crate::core::model::{Problem, ProblemError};
 use crate::core::parameter::Parameter;
+use crate::core::planar::PlanarProblem;
 use crate::core::scene::Scene;
 
 /// Grid-file errors (all name the file).
@@ -76,11 +77,34 @@ pub struct Grid {
     pub runs: usize,
     /// Seed of the first Monte Carlo run.
     pub seed: u64,
-    /// The base is a scene file (else a single-obstacle problem file).
-    pub scene: bool,
-    /// The base problem as read (None for a scene): cells that only set named parameters to
+    /// What kind of file the base is.
+    pub kind: BaseKind,
+    /// The base problem as read (None for a scene or planar problem): cells that only set named parameters to
     /// floats start from it instead of reading the base's text again.
     base: Option<Problem>,
+}
+
+/// What kind of problem file a grid's base is (each is read by its own reader, and its
+/// cells answered by its own engines).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BaseKind {
+    /// A single-obstacle problem on the line.
+    Problem,
+    /// A scene: several obstacles and lanes on the line.
+    Scene,
+    /// A planar problem (a `[plane]` table: docs/semantics.md §13).
+    Planar,
+}
+
+impl BaseKind {
+    /// How a report names the base: `problem`, `scene`, `planar problem`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            BaseKind::Problem => "problem",
+            BaseKind::Scene => "scene",
+            BaseKind::Planar => "planar problem",
+        }
+    }
 }
 
 /// What one cell analyses.
@@ -90,6 +114,8 @@ pub enum CellInput {
     Problem(Problem),
     /// A scene.
     Scene(Scene),
+    /// A planar problem.
+    Planar(Box<PlanarProblem>),
 }
 
 impl Grid {
@@ -124,12 +150,17 @@ impl Grid {
             source,
         })?;
         let origin = base_path.display().to_string();
-        let (scene, base) = match Problem::from_toml_str(&base_text, &origin) {
-            Ok(p) => (false, Some(p)),
-            Err(e) => {
-                // Not a problem file: a scene, or the problem reader's error stands.
-                Scene::from_toml_str(&base_text, &origin).map_err(|_| e)?;
-                (true, None)
+        let (kind, base) = if PlanarProblem::is_planar(&base_text) {
+            PlanarProblem::from_toml_str(&base_text, &origin)?;
+            (BaseKind::Planar, None)
+        } else {
+            match Problem::from_toml_str(&base_text, &origin) {
+                Ok(p) => (BaseKind::Problem, Some(p)),
+                Err(e) => {
+                    // Not a problem file: a scene, or the problem reader's error stands.
+                    Scene::from_toml_str(&base_text, &origin).map_err(|_| e)?;
+                    (BaseKind::Scene, None)
+                }
             }
         };
         let mut axes = Vec::new();
@@ -186,7 +217,7 @@ impl Grid {
             axes,
             runs: file.runs,
             seed: file.seed,
-            scene,
+            kind,
             base,
         };
         // Every value must make a valid problem: check each axis value once, up front. The
@@ -242,19 +273,24 @@ impl Grid {
         }
         let sets: Vec<String> = values.iter().map(|(k, v)| format!("{k}={v}")).collect();
         let origin = self.base_path.display().to_string();
-        if self.scene {
-            Scene::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
-                .map(CellInput::Scene)
-        } else {
-            // A range of initial gaps is answered by the scene engines (see
-            // `AnalysisError::GapRange`).
-            Problem::from_toml_str_with_overrides(&self.base_text, &origin, &sets).map(|p| {
-                if p.environment.initial_gap.is_range() {
-                    CellInput::Scene(Scene::from_problem(&p))
-                } else {
-                    CellInput::Problem(p)
-                }
-            })
+        match self.kind {
+            BaseKind::Scene => Scene::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
+                .map(CellInput::Scene),
+            BaseKind::Planar => {
+                PlanarProblem::from_toml_str_with_overrides(&self.base_text, &origin, &sets)
+                    .map(|p| CellInput::Planar(Box::new(p)))
+            }
+            BaseKind::Problem => {
+                // A range of initial gaps is answered by the scene engines (see
+                // `AnalysisError::GapRange`).
+                Problem::from_toml_str_with_overrides(&self.base_text, &origin, &sets).map(|p| {
+                    if p.environment.initial_gap.is_range() {
+                        CellInput::Scene(Scene::from_problem(&p))
+                    } else {
+                        CellInput::Problem(p)
+                    }
+                })
+            }
         }
     }
 
@@ -283,6 +319,13 @@ impl Grid {
                 key: "environment".into(),
                 value: String::new(),
                 reason: "the base is a scene, not a single-obstacle problem".into(),
+                location: None,
+            }),
+            CellInput::Planar(_) => Err(ProblemError::Invalid {
+                origin: self.base_path.display().to_string(),
+                key: "plane".into(),
+                value: String::new(),
+                reason: "the base is a planar problem, not a problem on the line".into(),
                 location: None,
             }),
         }

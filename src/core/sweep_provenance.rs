@@ -4,15 +4,17 @@
 //! base problem they were not computed from.
 //!
 //! The digests are SHA-256 of the canonical JSON of the axes (keys and values, in order) and
-//! of the base problem as read (every key, defaults filled in), not of the files' bytes: a
+//! of the base problem as read (every key, defaults filled in; a planar problem's table as
+//! its file states it), not of the files' bytes: a
 //! comment edited in a grid file leaves its results valid; any changed value does not. The
 //! axes and the problem are stored beside their digests so a refusal can say what changed.
 
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::core::grid::Grid;
+use crate::core::grid::{BaseKind, Grid};
 use crate::core::model::{Problem, ProblemError};
+use crate::core::planar::PlanarProblem;
 use crate::core::scene::Scene;
 use crate::core::shard::Shard;
 
@@ -73,10 +75,29 @@ impl SweepProvenance {
             })
             .collect();
         let origin = grid.base_path.display().to_string();
-        let base_problem = if grid.scene {
-            serde_json::to_value(Scene::from_toml_str(&grid.base_text, &origin)?)
-        } else {
-            serde_json::to_value(Problem::from_toml_str(&grid.base_text, &origin)?)
+        let base_problem = match grid.kind {
+            BaseKind::Scene => {
+                serde_json::to_value(Scene::from_toml_str(&grid.base_text, &origin)?)
+            }
+            BaseKind::Problem => {
+                serde_json::to_value(Problem::from_toml_str(&grid.base_text, &origin)?)
+            }
+            // A planar problem as its file states it (validated by the reader first): its
+            // table, so comments and layout do not count, every stated value does.
+            BaseKind::Planar => {
+                PlanarProblem::from_toml_str(&grid.base_text, &origin)?;
+                let table: toml::Table =
+                    grid.base_text
+                        .parse()
+                        .map_err(|e: toml::de::Error| ProblemError::Invalid {
+                            origin: origin.clone(),
+                            key: String::new(),
+                            value: String::new(),
+                            reason: e.to_string(),
+                            location: None,
+                        })?;
+                serde_json::to_value(table)
+            }
         }
         .expect("problems serialise");
         Ok(SweepProvenance {

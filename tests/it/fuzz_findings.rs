@@ -171,7 +171,7 @@ fn a_grid_read_from_text_is_the_grid_loaded_from_its_file() {
         (b.len(), &b.axes, &b.base_text)
     );
     assert_eq!(
-        (a.name, a.runs, a.seed, a.scene),
-        (b.name, b.runs, b.seed, b.scene)
+        (a.name, a.runs, a.seed, a.kind),
+        (b.name, b.runs, b.seed, b.kind)
     );
 }

@@ -64,7 +64,7 @@ fn every_cell_equals_a_single_analysis() {
 #[test]
 fn every_scene_cell_equals_a_scene_analysis() {
     let grid = Grid::load(&root().join("problems/scene-oncoming-grid.toml")).expect("loads");
-    assert!(grid.scene);
+    assert_eq!(grid.kind, safereach::core::grid::BaseKind::Scene);
     let results = grid
         .run(Shard::ALL, 10, 3, &SweepBudget::default(), || {})
         .expect("sweeps");

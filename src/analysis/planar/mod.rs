@@ -20,6 +20,8 @@ pub use certificate::{ProblemText, planar_certificate};
 pub use certify::{PlanarAnswer, PlanarVerdict, certify_planar};
 pub use leaf_solve::{LeafBound, bound_leaf};
 pub use lower_bound::{BoundOptions, LowerBound, LowerBoundError, WorstLeaf, lower_bound};
-pub use monte_carlo::{ClosestRun, PlanarMonteCarlo, planar_monte_carlo, random_run};
+pub use monte_carlo::{
+    ClosestRun, MAX_RUN_STEPS, PlanarMonteCarlo, planar_monte_carlo, random_run,
+};
 pub use trace::{PlanarTraceRow, planar_trace};
 pub use witness::{Witness, witness};

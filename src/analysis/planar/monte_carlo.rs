@@ -14,6 +14,9 @@ use crate::core::planar::{
 use crate::core::plane::direction::RationalDirection;
 use crate::core::plane::point::Point;
 
+/// The most control periods one random run takes (it ends earlier when the robot rests).
+pub const MAX_RUN_STEPS: usize = 3000;
+
 /// The chance per step that an obstacle picks a new heading and speed.
 const TURN_CHANCE: f64 = 0.2;
 

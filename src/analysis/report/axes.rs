@@ -1,8 +1,12 @@
 //! What a grid's axes mean in a figure: each dotted key's meaning and unit (an obstacle's
-//! named by its index and its name in the base scene), and which two axes a heat map spans.
+//! named by its index and its name in the base scene or planar problem), and which two axes
+//! a heat map spans.
 
 use crate::analysis::sweep::Grid;
+use crate::core::grid::BaseKind;
 use crate::core::model::keys::key_spec;
+use crate::core::planar::PlanarProblem;
+use crate::core::planar::keys as planar_keys;
 use crate::core::scene::Scene;
 use crate::core::scene::keys::{OBSTACLE_KEYS, SCENE_KEYS};
 
@@ -56,8 +60,18 @@ pub(super) fn is_speed_bound(key: &str) -> bool {
 /// The unit the file reader gives a key (empty when it has none or is unknown).
 fn unit(key: &str) -> String {
     let spec = match obstacle_field(key) {
-        Some((_, field)) => OBSTACLE_KEYS.iter().find(|s| s.key == field).copied(),
-        None => key_spec(key).or_else(|| SCENE_KEYS.iter().find(|s| s.key == key).copied()),
+        Some((_, field)) => OBSTACLE_KEYS
+            .iter()
+            .chain(planar_keys::OBSTACLE_KEYS)
+            .find(|s| s.key == field)
+            .copied(),
+        None => key_spec(key).or_else(|| {
+            SCENE_KEYS
+                .iter()
+                .chain(planar_keys::PLANAR_KEYS)
+                .find(|s| s.key == key)
+                .copied()
+        }),
     };
     match spec.map(|s| s.unit) {
         Some("control periods") => "periods".into(),
@@ -93,6 +107,14 @@ fn plain(key: &str) -> Option<(&'static str, Option<&'static str>)> {
         "sensing.speed_noise" => ("speed noise σ_w", Some("σ_w")),
         "sensing.first_detection_gap" => ("first detection gap d_det", Some("d_det")),
         "scene.lanes" => ("lanes", None),
+        "robot.radius" => ("robot radius r_R", Some("r_R")),
+        "robot.path_tolerance" => ("path tolerance", None),
+        "controller.danger_zone" => ("danger zone", None),
+        "sensing.position_noise" => ("position noise σ_p", Some("σ_p")),
+        "sensing.velocity_noise" => ("velocity noise σ_w", Some("σ_w")),
+        "sensing.first_detection" => ("first detection distance d_det", Some("d_det")),
+        "sensing.range" => ("sensing range R", Some("R")),
+        "sensing.field_of_view" => ("field of view θ", Some("θ")),
         _ => return None,
     })
 }
@@ -114,9 +136,14 @@ pub(super) fn label(grid: &Grid, key: &str) -> AxisLabel {
 
 /// `obstacle 1 ("second") max speed W_1`, and its symbol.
 fn obstacle_meaning(grid: &Grid, index: usize, field: &str) -> (String, Option<String>) {
-    let name = Scene::from_toml_str(&grid.base_text, "base")
-        .ok()
-        .and_then(|s| s.obstacles.get(index).map(|o| o.name.clone()));
+    let name = match grid.kind {
+        BaseKind::Planar => PlanarProblem::from_toml_str(&grid.base_text, "base")
+            .ok()
+            .and_then(|p| p.obstacles.get(index).map(|o| o.name.clone())),
+        _ => Scene::from_toml_str(&grid.base_text, "base")
+            .ok()
+            .and_then(|s| s.obstacles.get(index).map(|o| o.name.clone())),
+    };
     let who = match name {
         Some(n) => format!("obstacle {index} (\"{n}\")"),
         None => format!("obstacle {index}"),
@@ -124,6 +151,7 @@ fn obstacle_meaning(grid: &Grid, index: usize, field: &str) -> (String, Option<S
     let (what, symbol) = match field {
         "max_speed" => (format!("max speed W_{index}"), Some(format!("W_{index}"))),
         "position" => ("start x".to_string(), None),
+        "radius" => (format!("radius r_{index}"), Some(format!("r_{index}"))),
         other => (other.to_string(), None),
     };
     (format!("{who} {what}"), symbol)
@@ -141,7 +169,7 @@ fn numeric(values: &[toml::Value]) -> bool {
 /// them, else the first numeric axes with more than one value.
 pub(super) fn heat_map_axes(grid: &Grid) -> Result<(String, String), String> {
     let has = |key: &str| grid.axes.iter().any(|(k, _)| k == key);
-    if !grid.scene && has(SPEED_KEY) && has(RADIUS_KEY) {
+    if grid.kind == BaseKind::Problem && has(SPEED_KEY) && has(RADIUS_KEY) {
         return Ok((SPEED_KEY.into(), RADIUS_KEY.into()));
     }
     let varied: Vec<&String> = grid

@@ -16,10 +16,13 @@ pub(super) fn fmt_opt(x: Option<f64>, digits: usize) -> String {
     }
 }
 
-/// s* as printed: −∞ when the robot may never stop.
+/// s* as printed: −∞ when the robot may never stop; for a planar cell whose bracket is too
+/// wide to state s*, `≤` the witness's separation (the lower bound has its own column).
 pub(super) fn separation(r: &CellResult) -> String {
     if r.never_stops {
         "−∞".into()
+    } else if let (None, Some(up)) = (r.min_separation, r.upper_bound) {
+        format!("≤ {}", crate::core::show::up(up, 3))
     } else {
         fmt_opt(r.min_separation, 3)
     }

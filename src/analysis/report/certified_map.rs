@@ -13,10 +13,10 @@ use crate::proof::region_map::RegionMap;
 /// Cuts on the way to a leaf: leaves along the boundary are then about 1/100 of each range.
 pub const DEPTH: u32 = 16;
 
-/// The certified map of the grid's (W, ρ) plane; None when the grid is a scene, lacks
+/// The certified map of the grid's (W, ρ) plane; None when the grid is a scene or planar, lacks
 /// either axis, or varies another key (the map holds every other key at one value).
 pub fn certified_map(grid: &Grid) -> Result<Option<RegionMap>, String> {
-    if grid.scene {
+    if grid.kind != crate::core::grid::BaseKind::Problem {
         return Ok(None);
     }
     let span = |key: &str| -> Option<(f64, f64)> {

@@ -11,6 +11,7 @@ use super::{CurvePoint, MAX_MAPS, RADIUS_KEY, SPEED_KEY};
 use crate::analysis::radius;
 use crate::analysis::scene_radius::scene_radius;
 use crate::analysis::sweep::Grid;
+use crate::core::grid::BaseKind;
 use crate::core::model::Problem;
 use crate::core::scene::Scene;
 
@@ -52,6 +53,14 @@ const SCENE_POINTS: f64 = 8.0;
 /// first `MAX_MAPS`). Single-obstacle points are 0.01 m/s apart; a scene's at most 9,
 /// at a round step (0.05 m/s for W up to 0.35).
 pub fn radius_curve(grid: &Grid) -> Result<Curve, String> {
+    if grid.kind == BaseKind::Planar {
+        return Ok(Curve::NotApplicable(
+            "a planar ρ* is a bisection of a dozen or so planar certifications (about a second \
+             each), too many to draw a curve of in a report; `safereach radius` on the planar \
+             problem, with the slice's keys set, finds each point, certified"
+                .into(),
+        ));
+    }
     let key = match speed_axis(grid) {
         Ok(Some(k)) => k,
         Ok(None) => return Ok(Curve::None),
@@ -64,13 +73,13 @@ pub fn radius_curve(grid: &Grid) -> Result<Curve, String> {
         .flat_map(|(_, v)| v.iter().filter_map(number))
         .fold(0.0, f64::max);
     if top <= 0.0 {
-        return Ok(if grid.scene {
+        return Ok(if grid.kind == BaseKind::Scene {
             Curve::NotApplicable(format!("`{key}` takes no value above 0"))
         } else {
             Curve::None
         });
     }
-    let step = if grid.scene {
+    let step = if grid.kind == BaseKind::Scene {
         round_step((top + 0.05) / SCENE_POINTS)
     } else {
         0.01
@@ -112,7 +121,7 @@ fn overrides(slice: &Slice) -> Vec<String> {
 /// ρ* of the base with `sets` applied.
 fn point(grid: &Grid, sets: &[String]) -> Result<Option<f64>, String> {
     let origin = grid.base_path.display().to_string();
-    if grid.scene {
+    if grid.kind == BaseKind::Scene {
         let s = Scene::from_toml_str_with_overrides(&grid.base_text, &origin, sets)
             .map_err(|e| e.to_string())?;
         Ok(scene_radius(&s).map_err(|e| e.to_string())?.value)
@@ -144,7 +153,7 @@ fn round_step(raw: f64) -> f64 {
 /// The axis the curve runs along; Ok(None) for a single-obstacle grid without one, Err
 /// with the reason for a scene grid that has no curve.
 fn speed_axis(grid: &Grid) -> Result<Option<String>, String> {
-    if !grid.scene {
+    if grid.kind != BaseKind::Scene {
         let has = grid.axes.iter().any(|(k, _)| k == SPEED_KEY);
         return Ok(has.then(|| SPEED_KEY.to_string()));
     }

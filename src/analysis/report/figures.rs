@@ -26,7 +26,8 @@ pub(super) fn write_figures(
         Ok((x, y)) => {
             let (xl, yl) = (label(grid, &x), label(grid, &y));
             // The paper's (W, ρ) maps keep units in their ticks only, as they always had.
-            let titled = grid.scene || (x.as_str(), y.as_str()) != (SPEED_KEY, RADIUS_KEY);
+            let titled = grid.kind != crate::core::grid::BaseKind::Problem
+                || (x.as_str(), y.as_str()) != (SPEED_KEY, RADIUS_KEY);
             let all = slices(grid, &x, &y);
             let drawn: Vec<Slice> = all.iter().take(MAX_MAPS).cloned().collect();
             let kind = Kind {

@@ -14,7 +14,8 @@
 //! verdict colours in `palette`; `axes` labels the axes, picks a heat map's two and cuts a
 //! grid into slices, `curve` computes ρ*(W) per slice; `cells` reads and prints one cell's
 //! values for all of them; `certified_map` maps the (W, ρ) plane with region certificates
-//! and `region_plot` draws a region map.
+//! and `region_plot` draws a region map; `planar_views` draws a planar grid's worst cases
+//! from above with `top_view`.
 
 mod axes;
 mod base_values;
@@ -27,6 +28,7 @@ mod findings;
 mod heat_map;
 mod markdown;
 mod palette;
+mod planar_views;
 pub mod region_plot;
 mod svg;
 mod top_view;
@@ -34,6 +36,7 @@ mod top_view;
 pub use certified_map::certified_map;
 pub use curve::{Curve, SliceCurve, radius_curve};
 pub use markdown::grid_report;
+pub use planar_views::{PlanarView, planar_views, witness_view};
 pub use top_view::{TopViewLabels, top_view};
 
 const SPEED_KEY: &str = "environment.obstacle_speed";

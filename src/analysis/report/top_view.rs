@@ -35,7 +35,6 @@ pub struct TopViewLabels<'a> {
 pub fn top_view(params: &PlanarParams, rows: &[PlanarTraceRow], labels: &TopViewLabels) -> String {
     let n = params.obstacles.len().max(1);
     let steps: Vec<&[PlanarTraceRow]> = rows.chunks(n).collect();
-    let path: Vec<(f64, f64)> = path_points(params);
     let rr = params.robot_radius.to_f64().value();
     let radii: Vec<f64> = params
         .obstacles
@@ -43,12 +42,18 @@ pub fn top_view(params: &PlanarParams, rows: &[PlanarTraceRow], labels: &TopView
         .map(|o| o.radius.to_f64().value())
         .collect();
     let big = radii.iter().fold(rr, |a, b| a.max(*b));
-    // The world box: everything drawn, with the largest disc around it.
-    let mut xs: Vec<f64> = path.iter().map(|p| p.0).collect();
-    let mut ys: Vec<f64> = path.iter().map(|p| p.1).collect();
+    // The world box: everything drawn, with the largest disc around it. The path is drawn
+    // near what moves only (the seed's runs along the x axis for 10⁵ m).
+    let mut xs: Vec<f64> = Vec::new();
+    let mut ys: Vec<f64> = Vec::new();
     for r in rows {
         xs.extend([r.robot_x, r.x]);
         ys.extend([r.robot_y, r.y]);
+    }
+    let path = clipped(&path_points(params), &near(&xs, &ys));
+    for &(x, y) in path.iter().flatten() {
+        xs.push(x);
+        ys.push(y);
     }
     let lo = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min) - big - 0.5;
     let hi = |v: &[f64]| v.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + big + 0.5;
@@ -62,11 +67,13 @@ pub fn top_view(params: &PlanarParams, rows: &[PlanarTraceRow], labels: &TopView
     svg.title(LEFT + plot_w / 2.0, labels.title);
     svg.area(LEFT, TOP, plot_w, plot_h, "none", " stroke=\"#cccccc\"");
     // The path.
-    let d = polyline(path.iter().map(|&(x, y)| (px(x), py(y))));
-    svg.path(
-        &d,
-        &format!(" fill=\"none\" stroke=\"{PATH}\" stroke-dasharray=\"6 4\""),
-    );
+    for piece in &path {
+        let d = polyline(piece.iter().map(|&(x, y)| (px(x), py(y))));
+        svg.path(
+            &d,
+            &format!(" fill=\"none\" stroke=\"{PATH}\" stroke-dasharray=\"6 4\""),
+        );
+    }
     // The danger zone at the brake step, about the robot's centre then.
     if let Some(k) = labels.brake_step
         && let Some(at) = steps.get(k).and_then(|s| s.first())
@@ -174,6 +181,77 @@ fn path_points(params: &PlanarParams) -> Vec<(f64, f64)> {
         out.push(params.path.point_at(&end).to_f64());
     }
     out
+}
+
+/// The box (x0, x1, y0, y1) the path is drawn in: the points' box grown by half its
+/// larger side, at least 2 m.
+fn near(xs: &[f64], ys: &[f64]) -> (f64, f64, f64, f64) {
+    let span = |v: &[f64]| {
+        let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        if lo <= hi { (lo, hi) } else { (0.0, 0.0) }
+    };
+    let ((x0, x1), (y0, y1)) = (span(xs), span(ys));
+    let grow = (0.5 * (x1 - x0).max(y1 - y0)).max(2.0);
+    (x0 - grow, x1 + grow, y0 - grow, y1 + grow)
+}
+
+/// The polyline `points` cut to the box `b` (x0, x1, y0, y1): its pieces inside, in order.
+fn clipped(points: &[(f64, f64)], b: &(f64, f64, f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut open = false;
+    for w in points.windows(2) {
+        let Some((p, q)) = clip_segment(w[0], w[1], b) else {
+            open = false;
+            continue;
+        };
+        match pieces.last_mut() {
+            Some(piece) if open && piece.last() == Some(&p) => piece.push(q),
+            _ => pieces.push(vec![p, q]),
+        }
+        // The piece continues only when the segment ends inside the box.
+        open = q == w[1];
+    }
+    pieces
+}
+
+/// The part of segment p–q inside the box `b` (Liang–Barsky), if any.
+fn clip_segment(
+    p: (f64, f64),
+    q: (f64, f64),
+    &(x0, x1, y0, y1): &(f64, f64, f64, f64),
+) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (d, room) in [
+        (-dx, p.0 - x0),
+        (dx, x1 - p.0),
+        (-dy, p.1 - y0),
+        (dy, y1 - p.1),
+    ] {
+        if d == 0.0 {
+            if room < 0.0 {
+                return None;
+            }
+        } else {
+            let t = room / d;
+            if d < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+    }
+    let at = |t: f64| {
+        if t == 0.0 {
+            p
+        } else if t == 1.0 {
+            q
+        } else {
+            (p.0 + t * dx, p.1 + t * dy)
+        }
+    };
+    (t0 <= t1).then(|| (at(t0), at(t1)))
 }
 
 fn polyline(points: impl Iterator<Item = (f64, f64)>) -> String {
@@ -356,5 +434,27 @@ fn legend(svg: &mut Svg, params: &PlanarParams, labels: &TopViewLabels, x: f64) 
     }
     if labels.closest.is_some() {
         item(svg, "black", false, "closest approach (filled discs)");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A path inside the box is drawn whole; one that runs far out is cut at the box's edge,
+    /// and one that leaves and comes back is drawn as two pieces.
+    #[test]
+    fn the_path_is_cut_to_the_box_it_is_drawn_in() {
+        let b = (-1.0, 11.0, -2.0, 2.0);
+        let inside = [(0.0, 0.0), (5.0, 0.0), (5.0, 1.0)];
+        assert_eq!(clipped(&inside, &b), vec![inside.to_vec()]);
+        let seed = [(0.0, 0.0), (100_000.0, 0.0)];
+        assert_eq!(clipped(&seed, &b), vec![vec![(0.0, 0.0), (11.0, 0.0)]]);
+        let out_and_back = [(0.0, 0.0), (0.0, 4.0), (4.0, 4.0), (4.0, 0.0)];
+        assert_eq!(
+            clipped(&out_and_back, &b),
+            vec![vec![(0.0, 0.0), (0.0, 2.0)], vec![(4.0, 2.0), (4.0, 0.0)]]
+        );
+        assert!(clipped(&[(20.0, 0.0), (30.0, 0.0)], &b).is_empty());
     }
 }
