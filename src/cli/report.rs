@@ -19,7 +19,7 @@ use super::sweep::{counts, run_grid, write_sweep};
 /// Arguments of `safereach report`.
 #[derive(clap::Args)]
 pub struct ReportArgs {
-    /// Grid files (default: every `problems/*grid*.toml` and `problems/planar/*grid*.toml`).
+    /// Grid files (default: every `problems/*grid*.toml`).
     grids: Vec<PathBuf>,
     /// Report sweep results (whole, or shards merged) from these directories or files
     /// instead of sweeping; repeatable, or several after one --from. Results of another
@@ -68,12 +68,10 @@ pub fn run(args: ReportArgs, out: &mut Output) -> Result<Exit> {
     Ok(Exit::Pass)
 }
 
-/// Every `problems/*grid*.toml` and `problems/planar/*grid*.toml`, sorted.
+/// Every `problems/*grid*.toml`, sorted.
 fn shipped_grids() -> Result<Vec<PathBuf>> {
-    let planar = std::fs::read_dir("problems/planar").into_iter().flatten();
     let mut found: Vec<PathBuf> = std::fs::read_dir("problems")
         .context("reading problems/ (run from the repository root, or name the grid files)")?
-        .chain(planar)
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             let n = p
