@@ -42,6 +42,7 @@ mod planar_monitor;
 mod planar_monitor_cli;
 mod planar_oracle;
 mod planar_replay;
+mod planar_rotation;
 mod planar_sweep;
 mod plane_geometry;
 mod plane_path;

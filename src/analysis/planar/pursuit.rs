@@ -173,8 +173,10 @@ fn grid_point(x: f64, y: f64) -> Point {
     Point::new(g(x), g(y))
 }
 
-/// `v`, or the part of it along one axis, or a fraction of it, so that a step of obstacle
-/// `i` from `here` stays inside its region (zero when nothing does).
+/// `v`, or its part along one of the region's edges (sliding along the boundary it meets),
+/// or a fraction of it, so that a step of obstacle `i` from `here` stays inside its region
+/// (zero when nothing does). Edges, not the frame's axes: the choice must not depend on
+/// how the problem's frame is turned (tests/it/planar_rotation.rs).
 fn within_region(params: &PlanarParams, i: usize, here: &Point, v: Point, dt: &Exact) -> Point {
     let Some(region) = &params.obstacles[i].region else {
         return v;
@@ -183,13 +185,12 @@ fn within_region(params: &PlanarParams, i: usize, here: &Point, v: Point, dt: &E
     if inside(&v) {
         return v;
     }
-    let along_x = Point::new(v.x.clone(), Exact::ZERO);
-    let along_y = Point::new(Exact::ZERO, v.y.clone());
-    if let Some(best) = [along_x, along_y]
-        .into_iter()
-        .filter(inside)
-        .max_by_key(Point::norm_squared)
-    {
+    let corners = region.vertices();
+    let along_edges = (0..corners.len()).map(|k| {
+        let e = &corners[(k + 1) % corners.len()] - &corners[k];
+        &e * &(v.dot(&e) / e.norm_squared())
+    });
+    if let Some(best) = along_edges.filter(inside).max_by_key(Point::norm_squared) {
         return best;
     }
     let mut u = v;

@@ -1,5 +1,5 @@
 //! A planar problem file's numbers made exact ([`PlanarProblem::params`]), with the
-//! geometry checked exactly on the way: a path that is one (from (0, 0), along +x first, no
+//! geometry checked exactly on the way: a path that is one (from (0, 0), no
 //! zero-length segment, not crossing itself), convex polygons, nonzero directions, starts
 //! inside their regions, no obstacle starting in collision or unseeable, and horizons of at
 //! most a million control periods.

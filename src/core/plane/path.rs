@@ -1,6 +1,6 @@
-//! The robot's path: a polyline from the origin whose first segment points along +x (the
-//! frame of docs/semantics.md §13.1), with no segment of length 0 and no point visited
-//! twice. Validated exactly on the decimals a problem file gives.
+//! The robot's path: a polyline from the origin (the robot's start; its first segment is
+//! the robot's initial heading, in any direction: docs/semantics.md §13.1), with no segment
+//! of length 0 and no point visited twice. Validated exactly on the decimals a problem file gives.
 
 use std::cmp::Ordering;
 use std::fmt;
@@ -8,7 +8,7 @@ use std::fmt;
 use super::point::{Point, orientation, segments_meet};
 use crate::core::num::Exact;
 
-/// A validated path: vertices from (0, 0), first segment along +x, simple.
+/// A validated path: vertices from (0, 0), simple.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Path {
     vertices: Vec<Point>,
@@ -22,8 +22,6 @@ pub enum PathError {
     TooFewVertices(usize),
     /// The first vertex is not (0, 0).
     NotFromOrigin,
-    /// The first segment does not point along +x (the robot's initial heading).
-    FirstSegmentNotAlongX,
     /// A segment of length 0.
     ZeroLength(usize),
     /// A segment doubles back along the one before it.
@@ -41,10 +39,6 @@ impl fmt::Display for PathError {
             PathError::NotFromOrigin => {
                 write!(f, "the path must start at [0, 0], the robot's start")
             }
-            PathError::FirstSegmentNotAlongX => write!(
-                f,
-                "the first segment must point along +x (y = 0, x > 0): x is the robot's initial heading"
-            ),
             PathError::ZeroLength(i) => {
                 write!(f, "segment {i} (vertices {i} and {}) has length 0", i + 1)
             }
@@ -65,9 +59,6 @@ impl Path {
         }
         if vertices[0] != Point::origin() {
             return Err(PathError::NotFromOrigin);
-        }
-        if vertices[1].y != Exact::ZERO || vertices[1].x <= Exact::ZERO {
-            return Err(PathError::FirstSegmentNotAlongX);
         }
         let seg = |i: usize| (&vertices[i], &vertices[i + 1]);
         for i in 0..n - 1 {
