@@ -37,6 +37,7 @@ mod planar_bound;
 mod planar_boundary_cli;
 mod planar_certify_cli;
 mod planar_check_cli;
+mod planar_embedding;
 mod planar_input;
 mod planar_monitor;
 mod planar_monitor_cli;

@@ -284,37 +284,44 @@ impl<'a> ObstacleDomain<'a> {
                 },
             }
         };
-        let (to_anchor, to_instant, cover) = match &piece.anchor {
+        let (to_anchor, to_instant, (cover, sector)) = match &piece.anchor {
             Some(a) => {
                 let at = Exact::from(a.instant) * &dt;
-                let cover: Vec<HalfPlane> = match cover {
-                    CoverPiece::Whole => Vec::new(),
-                    CoverPiece::Outside(i) => vec![a.outside[*i].clone()],
+                let (cover, sector): (Vec<HalfPlane>, Vec<HalfPlane>) = match cover {
+                    CoverPiece::Whole => (Vec::new(), Vec::new()),
+                    CoverPiece::Outside(i) => (vec![a.outside[*i].clone()], Vec::new()),
                     CoverPiece::Arc(arc) => match &a.radius {
-                        Some(r) => arc.half_planes(&a.centre, r).to_vec(),
-                        None => Vec::new(),
+                        // The sector's two rays hold its centres in their closure only;
+                        // the third half-plane holds them strictly (Lemma P3(2)).
+                        Some(r) => {
+                            let [after_a, before_b, beyond] = arc.half_planes(&a.centre, r);
+                            (vec![beyond], vec![after_a, before_b])
+                        }
+                        None => (Vec::new(), Vec::new()),
                     },
                     CoverPiece::Side(side) => {
-                        match (&self.obstacle.direction, &self.obstacle.start, &a.radius) {
+                        let side = match (&self.obstacle.direction, &self.obstacle.start, &a.radius)
+                        {
                             (Some(d), Start::At(p), Some(r)) => {
                                 line_sides(p, d.unit(), &a.centre, r)
                                     .map(|sides| vec![sides[*side].clone()])
                                     .unwrap_or_default()
                             }
                             _ => Vec::new(),
-                        }
+                        };
+                        (side, Vec::new())
                     }
                 };
                 (
                     travel(Exact::ZERO, at.clone()),
                     travel(t1 - &at, t2 - &at),
-                    cover,
+                    (cover, sector),
                 )
             }
             None => (
                 travel(Exact::ZERO, t2.clone()),
                 travel(Exact::ZERO, Exact::ZERO),
-                Vec::new(),
+                (Vec::new(), Vec::new()),
             ),
         };
         Leaf {
@@ -324,6 +331,7 @@ impl<'a> ObstacleDomain<'a> {
             to_instant,
             region: self.obstacle.region.clone(),
             cover,
+            sector,
             constant: -(&self.radii + &chord),
         }
     }

@@ -48,8 +48,14 @@ pub struct Leaf {
     pub to_instant: Travel,
     /// The region every centre lies in.
     pub region: Option<ConvexPolygon>,
-    /// The cover set's half-planes, on x.
+    /// The cover set's half-planes that hold every centre of the set *strictly* (beyond a
+    /// guard's threshold), on x.
     pub cover: Vec<HalfPlane>,
+    /// The cover set's half-planes that hold its centres only in their closure, on x: an
+    /// arc's sector. Neighbouring sectors share a ray, and a centre on it lies in neither
+    /// interior, so these rows may not be strict: a start set on that ray (a start box
+    /// of height 0 on the robot's line) would otherwise be proved empty in every sector.
+    pub sector: Vec<HalfPlane>,
     /// Added to the distance: −(r_R + r_i) less the chord loss of Lemma P4.
     pub constant: Exact,
 }
@@ -220,7 +226,7 @@ impl Leaf {
         }
         for h in &self.cover {
             // Strict: a guard that did not fire saw the centre strictly beyond its
-            // threshold (Lemma P1), and a cover set holds every such centre strictly.
+            // threshold (Lemma P1), and these rows hold every such centre strictly.
             let mut r = row(
                 "cover",
                 &[(X, -h.normal.x.clone()), (X + 1, -h.normal.y.clone())],
@@ -228,6 +234,13 @@ impl Leaf {
             );
             r.strict = true;
             nonneg.push(r);
+        }
+        for h in &self.sector {
+            nonneg.push(row(
+                "sector",
+                &[(X, -h.normal.x.clone()), (X + 1, -h.normal.y.clone())],
+                -h.offset.clone(),
+            ));
         }
         if let Some(q) = &self.region {
             for h in region_half_planes(q) {

@@ -2,7 +2,7 @@
 //! the x axis as the path (without end), the obstacle at (g0, 0) moving along (−1, 0),
 //! radii 0, the disc zone, no range or field of view; σ_p = σ_g, σ_w as on the line.
 
-use safereach::core::model::Problem;
+use safereach::core::model::{Position, Problem};
 use safereach::core::num::{Exact, exact_decimal};
 use safereach::core::planar::{DangerZone, PlanarObstacle, PlanarParams, PlanarSensing, Start};
 use safereach::core::plane::direction::RationalDirection;
@@ -10,7 +10,7 @@ use safereach::core::plane::path::Path;
 use safereach::core::plane::point::Point;
 use safereach::core::plane::rational_path::RationalPath;
 
-/// The plane's form of `problem` (a point start: a range of gaps is not embedded here).
+/// The plane's form of `problem` (a range of gaps is a start box of height 0 on the axis).
 pub fn embed(problem: &Problem) -> PlanarParams {
     let motion = problem.params::<Exact>();
     let delta = Exact::from(1) / Exact::from(1_000_000_000);
@@ -26,7 +26,13 @@ pub fn embed(problem: &Problem) -> PlanarParams {
     let obstacle = PlanarObstacle {
         name: "oncoming".into(),
         radius: Exact::ZERO,
-        start: Start::At(Point::new(motion.g0.clone(), Exact::ZERO)),
+        start: match problem.environment.initial_gap {
+            Position::At(_) => Start::At(Point::new(motion.g0.clone(), Exact::ZERO)),
+            Position::Range(lo, hi) => Start::Box {
+                min: Point::new(decimal(lo), Exact::ZERO),
+                max: Point::new(decimal(hi), Exact::ZERO),
+            },
+        },
         max_speed: motion.W.clone(),
         direction: Some(towards),
         region: None,
