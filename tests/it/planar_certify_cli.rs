@@ -1,6 +1,6 @@
 //! `safereach certify` on shipped planar problems, held to independent answers: the seed
 //! embedded in the plane has the line's s* (0.33 m, docs/semantics.md §13.7) inside a
-//! bracket of at most 1e-6; the crossing car's refutation is a witness whose replayed
+//! bracket of at most 1e-9; the crossing car's refutation is a witness whose replayed
 //! separation is at or below the clearance, and the bracket holds it.
 
 use std::path::PathBuf;
@@ -38,7 +38,7 @@ fn the_seed_in_the_plane_is_certified_with_the_lines_s_star_bracketed_to_1e_6() 
         lower <= line + 1e-12 && line <= upper + 1e-12,
         "[{lower}, {upper}]"
     );
-    assert!(upper - lower <= 1e-6 + 1e-12, "[{lower}, {upper}]");
+    assert!(upper - lower <= 1e-9 + 1e-12, "[{lower}, {upper}]");
     assert_eq!(r["witness"]["obstacle"], "oncoming");
 }
 

@@ -184,5 +184,7 @@ pub fn certify_text(
     Ok((answer.verdict, certificate))
 }
 
-/// The bracket s* is refined to where the relaxation allows (issue 36: 1e-6).
-pub const TOLERANCE: f64 = 1e-6;
+/// The bracket s* is refined to where the relaxation allows (issue 36 asks 1e-6 of
+/// every shipped planar problem and 1e-9 of the line's problems in the plane; a tighter
+/// goal costs the second bound run nothing measurable on the shipped problems).
+pub const TOLERANCE: f64 = 1e-9;
