@@ -94,6 +94,29 @@ fn a_box_of_starts_never_beats_the_bound() {
     holds_the_bound(&params, &oracle);
 }
 
+/// A start box of height 0 on the robot's own line, the obstacle coming straight down it
+/// (the line's range of gaps in the plane): every centre lies on the ray between two
+/// quarter arcs of the anchor's cover, which a strict sector row once proved empty, and
+/// the bound rose above the oracle's collision-free least separation by metres.
+#[test]
+fn a_box_of_height_0_on_the_robots_line_never_beats_the_bound() {
+    let (min, max) = (at(3.0, 0.0), at(4.0, 0.0));
+    let mut params = small(1, 1.5, 0.4, min.clone());
+    let d = RationalDirection::near(&at(-1.0, 0.0), &decimal(1e-9)).expect("a direction");
+    let speeds = along(d.unit(), &decimal(0.4), 2);
+    params.obstacles[0].direction = Some(d);
+    params.obstacles[0].start = Start::Box {
+        min: min.clone(),
+        max: max.clone(),
+    };
+    let starts: Vec<Vec<Point>> = [min, at(3.5, 0.0), max]
+        .into_iter()
+        .map(|p| vec![p])
+        .collect();
+    let oracle = explore(&params, &starts, &[speeds], 6, 24);
+    holds_the_bound(&params, &oracle);
+}
+
 /// A robot that reacts late (ρ = 0.3 m, latency 2) and an obstacle as fast as it: rushing
 /// at the robot's path, the obstacle meets it before it can stop.
 #[test]
