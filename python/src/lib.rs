@@ -9,11 +9,13 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
+use safereach::analysis::planar::certify_text;
 use safereach::analysis::region_search::{RegionOptions, map_region, map_scene_region};
 use safereach::analysis::scene_answer::SceneAnswer;
 use safereach::analysis::{self, radius};
 use safereach::core::model::Problem as LibProblem;
 use safereach::core::param_box::{Axis, ParamBox};
+use safereach::core::planar::PlanarProblem;
 use safereach::core::scene::Scene;
 use safereach::core::semantics::Mode;
 use safereach::monitor::bag::{BagOptions, BagReader, LaneAxis, SpeedSource};
@@ -45,17 +47,24 @@ create_exception!(
     "An analysis that could not be completed (a budget, the solver); never a verdict."
 );
 
-/// A problem as read: a single-obstacle problem or a scene.
+/// A problem as read: a single-obstacle problem, a scene, or a planar problem.
 #[derive(Clone)]
 enum Input {
     Problem(LibProblem),
     Scene(Scene),
+    Planar(Box<PlanarProblem>),
 }
 
-/// Reads `text` with `sets` as the command line reads a file: a problem if it is one (a range
-/// of initial gaps is answered as its scene), else a scene; when neither reads, the scene
-/// reader's error for a file in scene form, else the problem reader's.
+/// Reads `text` with `sets` as the command line reads a file: a planar problem when it has a
+/// `[plane]` table, else a problem if it is one (a range of initial gaps is answered as its
+/// scene), else a scene; when neither reads, the scene reader's error for a file in scene
+/// form, else the problem reader's.
 fn read(text: &str, origin: &str, sets: &[String]) -> PyResult<Input> {
+    if PlanarProblem::is_planar(text) {
+        return PlanarProblem::from_toml_str_with_overrides(text, origin, sets)
+            .map(|p| Input::Planar(Box::new(p)))
+            .map_err(|e| InputError::new_err(e.to_string()));
+    }
     let problem_error = match LibProblem::from_toml_str_with_overrides(text, origin, sets) {
         Ok(p) if p.environment.initial_gap.is_range() => {
             return Ok(Input::Scene(Scene::from_problem(&p)));
@@ -137,7 +146,14 @@ impl Problem {
         match &self.input {
             Input::Problem(p) => p.name.clone(),
             Input::Scene(s) => s.name.clone(),
+            Input::Planar(p) => p.name.clone(),
         }
+    }
+
+    /// Whether it is a planar problem (obstacles from any direction, docs/semantics.md §13).
+    #[getter]
+    fn is_planar(&self) -> bool {
+        matches!(self.input, Input::Planar(_))
     }
 
     /// Whether it is a scene (several obstacles or lanes) rather than one obstacle.
@@ -146,22 +162,68 @@ impl Problem {
         matches!(self.input, Input::Scene(_))
     }
 
-    /// The problem as JSON text (every key, overrides applied).
-    fn to_json(&self) -> String {
-        match &self.input {
+    /// The problem as JSON text (every key, overrides applied; a planar problem: the keys its
+    /// text states, overrides applied).
+    fn to_json(&self) -> PyResult<String> {
+        Ok(match &self.input {
             Input::Problem(p) => serde_json::to_string(p),
             Input::Scene(s) => serde_json::to_string(s),
+            Input::Planar(_) => serde_json::to_string(&stated(&self.text, &self.sets)?),
         }
-        .expect("problems serialise")
+        .expect("problems serialise"))
     }
 
     fn __repr__(&self) -> String {
-        let kind = if self.is_scene() { "scene" } else { "problem" };
+        let kind = match self.input {
+            Input::Problem(_) => "problem",
+            Input::Scene(_) => "scene",
+            Input::Planar(_) => "planar problem",
+        };
         format!("<safereach.Problem {kind} {:?}>", self.name())
     }
 }
 
 /// A Python value as a TOML value for an override.
+/// A planar problem's text as a table with the overrides `sets` applied (each read and
+/// validated already, so each names a table key or an obstacle's by index).
+fn stated(text: &str, sets: &[String]) -> PyResult<toml::Table> {
+    let bad = |e: String| InputError::new_err(e);
+    let mut doc: toml::Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| bad(e.to_string()))?;
+    for set in sets {
+        let (key, value) = set.split_once('=').ok_or_else(|| bad(set.clone()))?;
+        let value: toml::Table = format!("v = {value}")
+            .parse()
+            .map_err(|e: toml::de::Error| bad(e.to_string()))?;
+        let value = value["v"].clone();
+        let parts: Vec<&str> = key.trim().split('.').collect();
+        let (table, rest) = match parts.as_slice() {
+            ["obstacle", index, field] => {
+                let i: usize = index.parse().map_err(|_| bad(set.clone()))?;
+                let obstacle = doc
+                    .get_mut("obstacle")
+                    .and_then(|o| o.as_array_mut())
+                    .and_then(|o| o.get_mut(i))
+                    .and_then(|o| o.as_table_mut())
+                    .ok_or_else(|| bad(set.clone()))?;
+                (obstacle, *field)
+            }
+            [table, field] => {
+                let table = doc
+                    .entry(table.to_string())
+                    .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+                    .as_table_mut()
+                    .ok_or_else(|| bad(set.clone()))?;
+                (table, *field)
+            }
+            _ => return Err(bad(set.clone())),
+        };
+        table.insert(rest.to_string(), value);
+    }
+    Ok(doc)
+}
+
 fn toml_value(value: &Bound<'_, PyAny>) -> PyResult<String> {
     if let Ok(b) = value.extract::<bool>() {
         return Ok(b.to_string());
@@ -292,6 +354,11 @@ fn to_py(py: Python<'_>, v: &Value) -> PyResult<Py<PyAny>> {
 #[pyfunction]
 fn certify(py: Python<'_>, problem: &Problem) -> PyResult<Certificate> {
     let input = problem.input.clone();
+    let (text, origin, sets) = (
+        problem.text.clone(),
+        problem.origin.clone(),
+        problem.sets.clone(),
+    );
     let file = py.detach(move || -> Result<CertificateFile, String> {
         let file = match &input {
             Input::Problem(p) => {
@@ -299,6 +366,11 @@ fn certify(py: Python<'_>, problem: &Problem) -> PyResult<Certificate> {
                 CertificateFile::Single(Box::new(LibCertificate::from_analysis(&a)))
             }
             Input::Scene(s) => SceneAnswer::of(s).map_err(|e| e.to_string())?.certificate(),
+            // The planar certificate carries the problem's text and overrides.
+            Input::Planar(_) => {
+                let (_, cert) = certify_text(&text, &origin, &sets).map_err(|e| e.to_string())?;
+                CertificateFile::Planar(Box::new(cert))
+            }
         };
         file.check()
             .map_err(|e| format!("internal error: the certificate does not verify: {e}"))?;
@@ -322,6 +394,10 @@ fn single(problem: &Problem, what: &str) -> PyResult<LibProblem> {
         Input::Problem(p) => Ok(p.clone()),
         Input::Scene(_) => Err(InputError::new_err(format!(
             "{what} takes a single-obstacle problem; for a scene use `safereach radius` / `sweep`"
+        ))),
+        Input::Planar(_) => Err(InputError::new_err(format!(
+            "{what} takes a single-obstacle problem on the line; for a planar problem use \
+             `safereach radius` / `max-speed` (a bisection of planar certifications)"
         ))),
     }
 }
@@ -452,10 +528,17 @@ fn region(
     };
     let map = py
         .detach(move || match &input {
-            Input::Problem(p) => map_region(p, &whole, &options, &|_| {}),
-            Input::Scene(s) => map_scene_region(s, &whole, &options, &|_| {}),
+            Input::Problem(p) => {
+                map_region(p, &whole, &options, &|_| {}).map_err(|e| e.to_string())
+            }
+            Input::Scene(s) => {
+                map_scene_region(s, &whole, &options, &|_| {}).map_err(|e| e.to_string())
+            }
+            Input::Planar(_) => {
+                Err("region does not take planar problems yet (`safereach region` neither)".into())
+            }
         })
-        .map_err(|e| InputError::new_err(e.to_string()))?;
+        .map_err(InputError::new_err)?;
     let json = serde_json::to_value(&map).expect("maps serialise");
     Ok(RegionMap { map, json })
 }

@@ -274,3 +274,38 @@ def test_the_planar_monitor_holds_on_the_witness_trace_and_flags_a_robot_that_dr
     assert [e["premise"] for e in events] == ["controller_reaction"]
     with pytest.raises(sr.CertificateError):
         sr.PlanarMonitor(sr.certify(seed()))
+
+
+def test_planar_problems_certify_as_the_command_line_does_and_check_exactly(tmp_path):
+    """The seed in the plane: the line's s* (0.33 m) inside a 1e-9 bracket, the certificate
+    the command line writes byte for byte, a forged bound rejected; overrides and JSON keep
+    it planar, and the refuting override is refuted with a colliding witness."""
+    path = ROOT / "problems" / "planar" / "seed-in-plane.toml"
+    p = sr.Problem.from_file(str(path))
+    assert p.is_planar and not p.is_scene and p.name == "seed-in-plane"
+    cert = sr.certify(p)
+    assert cert.verdict == "certified" and sr.check(cert) == "certified"
+    assert cert.lower_bound <= 0.33 <= cert.to_dict()["upper_bound"]
+    assert cert.to_dict()["upper_bound"] - cert.lower_bound <= 1e-9 + 1e-12
+    binary = ROOT / "target" / "release" / "safereach"
+    if binary.exists():
+        out = tmp_path / "cli.json"
+        subprocess.run([str(binary), "certify", str(path), "--out", str(out)], check=True,
+                       stdout=subprocess.DEVNULL)
+        assert cert.to_json() == out.read_text()
+    data = json.loads(cert.to_json())
+    data["lower_bound"] = data["lower_bound"] + 1.0
+    with pytest.raises(sr.CertificateError):
+        sr.check(sr.Certificate.from_json(json.dumps(data)))
+    p.set("obstacle.0.max_speed", 0.3)
+    again = sr.Problem.from_json(p.to_json())
+    assert again.is_planar and json.loads(again.to_json())["obstacle"][0]["max_speed"] == 0.3
+    refuted = sr.certify(again)
+    assert refuted.verdict == "refuted" and refuted.witness["collides"] is True
+    assert sr.check(refuted) == "refuted"
+    with pytest.raises(sr.InputError) as e:
+        sr.safe_radius(p)
+    assert "planar" in str(e.value)
+    with pytest.raises(sr.InputError) as e:
+        p.set("obstacle.0.max_speed", -1.0)
+    assert "max_speed" in str(e.value)
