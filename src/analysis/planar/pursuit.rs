@@ -24,6 +24,9 @@ use super::witness::Witness;
 /// step within this distance.
 const SWITCH_STRIDE: usize = 4;
 
+/// At most this many switch steps in the first pass over a long horizon.
+const SWITCHES: usize = 64;
+
 /// The least pursuit witness over every moving, free-direction obstacle of `params`, each
 /// replayed for at most `steps` periods.
 pub fn pursuit_witness(params: &PlanarParams, steps: usize) -> Option<Witness> {
@@ -63,20 +66,37 @@ fn pursue(params: &PlanarParams, i: usize, steps: usize) -> Vec<Witness> {
     let mut out = Vec::new();
     for (&hide, stalk) in hides.iter().flat_map(|h| [(h, 0.0), (h, stalk)]) {
         let mut best: Option<(usize, Witness)> = None;
-        let try_switch = |switch: usize, best: &mut Option<(usize, Witness)>| {
+        let mut tried = std::collections::BTreeSet::new();
+        let mut try_switch = |switch: usize, best: &mut Option<(usize, Witness)>| {
+            if switch > steps || !tried.insert(switch) {
+                return;
+            }
             if let Some(found) = candidate(params, i, stalk.max(0.0), switch, hide, steps)
                 && better(&found, best.as_ref().map(|(_, b)| b))
             {
                 *best = Some((switch, found));
             }
         };
-        for switch in (0..=steps).step_by(SWITCH_STRIDE) {
+        // Every candidate replays up to `steps` steps: a long horizon gets a coarser first
+        // pass, so the work stays near SWITCHES · steps, not steps² / SWITCH_STRIDE.
+        let stride = SWITCH_STRIDE.max(steps.div_ceil(SWITCHES));
+        for switch in (0..=steps).step_by(stride) {
             try_switch(switch, &mut best);
+        }
+        // Then around the best, by halving the distance down to single steps.
+        let mut reach = stride;
+        while reach > SWITCH_STRIDE {
+            reach = reach.div_ceil(2);
+            if let Some((s, _)) = &best {
+                let s = *s;
+                try_switch(s.saturating_sub(reach), &mut best);
+                try_switch(s + reach, &mut best);
+            }
         }
         if let Some((s, _)) = &best {
             let s = *s;
             for switch in s.saturating_sub(SWITCH_STRIDE - 1)..=s + SWITCH_STRIDE - 1 {
-                if switch != s && switch % SWITCH_STRIDE != 0 {
+                if switch != s {
                     try_switch(switch, &mut best);
                 }
             }
@@ -117,9 +137,7 @@ fn candidate(
         let k = replay.k();
         // Where the robot will be at this step's end: its motion in step k does not depend
         // on what the obstacles do in it (the guards read observation k − L).
-        let mut ahead = replay.clone();
-        ahead.step(&still(starts.len())).ok()?;
-        let aim = ahead.robot_centre().to_f64();
+        let aim = replay.robot_centre_after(&still(starts.len())).to_f64();
         let here = replay.centre(i).to_f64();
         let speed = if k < switch { stalk } else { w };
         let v = towards(here, aim, speed, dt, &obstacle.max_speed);

@@ -246,17 +246,15 @@ impl<'a> PlanarReplay<'a> {
                 return Err(noise);
             }
         }
-        if matches!(self.robot.mode, Mode::Accelerate | Mode::Drive)
-            && let Some(guard) = self.guards(choices)
-        {
+        let (robot, fired) = self.decided(choices);
+        if let Some(guard) = fired {
             self.brake = Some(BrakeEvent { step: k, guard });
-            self.robot.mode = Mode::Brake;
         }
         let t0 = Exact::from(k) * &p.motion.dt;
-        if self.robot.mode == Mode::Brake && self.robot.speed <= Exact::ZERO {
-            self.robot.mode = Mode::Stop;
+        if robot.mode == Mode::Stop && self.robot.mode != Mode::Stop {
             self.rest.get_or_insert(t0.clone());
         }
+        self.robot = robot;
         let phases = motion_phases(&p.motion, &self.robot);
         let pieces = path_pieces(&p.path, &phases);
         for (i, c) in choices.iter().enumerate() {
@@ -285,6 +283,32 @@ impl<'a> PlanarReplay<'a> {
         self.arcs.push(self.robot.position.clone());
         self.k += 1;
         Ok(())
+    }
+
+    /// The robot's centre at the end of the step that `choices` would replay, without
+    /// replaying it: the robot's motion in a step depends on the obstacles only through the
+    /// guards at its start (observations of earlier instants and these choices' errors).
+    pub fn robot_centre_after(&self, choices: &[StepChoice]) -> Point {
+        let (robot, _) = self.decided(choices);
+        let motion = robot_motion(&self.params.motion, &robot);
+        self.params.path.point_at(&motion.end.position)
+    }
+
+    /// The robot's state for this step after the guards at its start, and the guard that
+    /// fired (a brake latches; braking at speed 0 is rest).
+    fn decided(&self, choices: &[StepChoice]) -> (RobotState<Exact>, Option<PlanarGuard>) {
+        let mut robot = self.robot.clone();
+        let mut fired = None;
+        if matches!(robot.mode, Mode::Accelerate | Mode::Drive)
+            && let Some(guard) = self.guards(choices)
+        {
+            fired = Some(guard);
+            robot.mode = Mode::Brake;
+        }
+        if robot.mode == Mode::Brake && robot.speed <= Exact::ZERO {
+            robot.mode = Mode::Stop;
+        }
+        (robot, fired)
     }
 
     /// The guard that fires at this step's start, if any (module docs, item 1).
