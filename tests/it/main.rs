@@ -39,6 +39,7 @@ mod planar_certify_cli;
 mod planar_check_cli;
 mod planar_embedding;
 mod planar_input;
+mod planar_keymaera;
 mod planar_monitor;
 mod planar_monitor_cli;
 mod planar_oracle;
