@@ -51,6 +51,8 @@ fn width() -> Exact {
 #[derive(Clone, Debug)]
 enum Stored {
     Exact {
+        /// The period's start (s since t = 0); `from` and `to` are since it.
+        t0: Exact,
         from: Exact,
         to: Exact,
         d: Polynomial,
@@ -61,78 +63,29 @@ enum Stored {
     },
 }
 
-/// One obstacle's separation as the replay goes.
+/// One obstacle's separation as the replay goes. The pieces are stored as they come and
+/// bracketed only when asked, least-looking first (by a float estimate), so that a piece
+/// whose sound Taylor bound is at least the best value attained is never minimised
+/// exactly: a run of hundreds of periods minimises a handful of pieces, not every one.
 #[derive(Clone, Debug)]
 pub struct Track {
     radii: Exact,
-    lower: Option<Exact>,
-    upper: Option<(Exact, Exact)>,
+    /// The least lower bound of the straddle pieces (bounded, never minimised).
+    bounded: Option<Exact>,
     stored: Vec<Stored>,
+    /// The bracket on D's minimum over every piece so far, once computed.
+    bracket: std::cell::OnceCell<Bracket>,
 }
 
-impl Track {
-    /// An empty track for radii sum r = r_R + r_i.
-    pub fn new(radii: Exact) -> Self {
-        Track {
-            radii,
-            lower: None,
-            upper: None,
-            stored: Vec::new(),
-        }
-    }
+/// An exact bracket on D's minimum: every instant's D is ≥ `lower`, and D at the instant
+/// `upper.1` is `upper.0` (None: no moving instant yet).
+#[derive(Clone, Debug, Default)]
+struct Bracket {
+    lower: Option<Exact>,
+    upper: Option<(Exact, Exact)>,
+}
 
-    /// Adds one period's pieces: the period starts at `t0`, the obstacle is at `x` then and
-    /// moves at `w`. Returns whether D ≤ `fall` somewhere on them (the occlusion test; a
-    /// straddle whose bound reaches it counts, which only shows the obstacle earlier).
-    pub fn add_period(
-        &mut self,
-        path: &RationalPath,
-        pieces: &[PathPiece],
-        t0: &Exact,
-        x: &Point,
-        w: &Point,
-        fall: Option<&Exact>,
-    ) -> bool {
-        let mut fell = false;
-        for piece in pieces {
-            match piece {
-                PathPiece::On {
-                    from,
-                    to,
-                    segment,
-                    arc,
-                    rests_at_end,
-                } => {
-                    let d = squared_distance(path, *segment, arc, x, w);
-                    fell |= fall.is_some_and(|c| d.min_at_most(c, from, to));
-                    self.bracket(&d, from, to, t0);
-                    self.stored.push(Stored::Exact {
-                        from: from.clone(),
-                        to: to.clone(),
-                        d,
-                        open_end: *rests_at_end,
-                    });
-                }
-                PathPiece::Straddle {
-                    from,
-                    to,
-                    segments,
-                    arc,
-                } => {
-                    let lower = (segments.0..=segments.1)
-                        .map(|j| taylor_lower(&squared_distance(path, j, arc, x, w), from, to))
-                        .min()
-                        .expect("at least one segment");
-                    let lower = lower.max(Exact::ZERO);
-                    fell |= fall.is_some_and(|c| lower <= *c);
-                    self.lower_to(&lower);
-                    self.stored.push(Stored::Bounded { lower });
-                }
-            }
-        }
-        fell
-    }
-
+impl Bracket {
     fn lower_to(&mut self, value: &Exact) {
         if self.lower.as_ref().is_none_or(|l| value < l) {
             self.lower = Some(value.clone());
@@ -145,10 +98,11 @@ impl Track {
         }
     }
 
-    /// Brackets D's minimum on [from, to] into the track, skipping the work when a cheap
-    /// bound shows the piece cannot hold the minimum (its Taylor bound is at least the best
-    /// attained value, so it changes neither end of the final bracket).
-    fn bracket(&mut self, d: &Polynomial, from: &Exact, to: &Exact, t0: &Exact) {
+    /// Brackets D's minimum on [from, to] of the period from `t0` into this one, skipping
+    /// the work when a cheap bound shows the piece cannot hold the minimum (its Taylor
+    /// bound is at least the best attained value, so it changes neither end of the final
+    /// bracket: the lower end is at most that attained value).
+    fn add(&mut self, d: &Polynomial, from: &Exact, to: &Exact, t0: &Exact) {
         if let Some((best, _)) = &self.upper
             && taylor_lower(d, from, to) >= *best
         {
@@ -171,16 +125,121 @@ impl Track {
         self.lower_to(&m.lower.max(Exact::ZERO));
         self.upper_to(&m.upper, t0 + m.at);
     }
+}
+
+/// A float estimate of D's least value on [from, to] (its ends and middle): only an order
+/// to bracket the pieces in, never a bound.
+fn estimate(d: &Polynomial, from: &Exact, to: &Exact) -> f64 {
+    let mid = (from + to) / Exact::from(2);
+    [from, &mid, to]
+        .into_iter()
+        .map(|t| d.eval(t).to_f64().value())
+        .fold(f64::INFINITY, f64::min)
+}
+
+impl Track {
+    /// An empty track for radii sum r = r_R + r_i.
+    pub fn new(radii: Exact) -> Self {
+        Track {
+            radii,
+            bounded: None,
+            stored: Vec::new(),
+            bracket: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// Adds one period's pieces: the period starts at `t0`, the obstacle is at `x` then and
+    /// moves at `w`. Returns whether D ≤ `fall` somewhere on them (the occlusion test; a
+    /// straddle whose bound reaches it counts, which only shows the obstacle earlier).
+    pub fn add_period(
+        &mut self,
+        path: &RationalPath,
+        pieces: &[PathPiece],
+        t0: &Exact,
+        x: &Point,
+        w: &Point,
+        fall: Option<&Exact>,
+    ) -> bool {
+        let mut fell = false;
+        self.bracket = std::cell::OnceCell::new();
+        for piece in pieces {
+            match piece {
+                PathPiece::On {
+                    from,
+                    to,
+                    segment,
+                    arc,
+                    rests_at_end,
+                } => {
+                    let d = squared_distance(path, *segment, arc, x, w);
+                    fell |= fall.is_some_and(|c| d.min_at_most(c, from, to));
+                    self.stored.push(Stored::Exact {
+                        t0: t0.clone(),
+                        from: from.clone(),
+                        to: to.clone(),
+                        d,
+                        open_end: *rests_at_end,
+                    });
+                }
+                PathPiece::Straddle {
+                    from,
+                    to,
+                    segments,
+                    arc,
+                } => {
+                    let lower = (segments.0..=segments.1)
+                        .map(|j| taylor_lower(&squared_distance(path, j, arc, x, w), from, to))
+                        .min()
+                        .expect("at least one segment");
+                    let lower = lower.max(Exact::ZERO);
+                    fell |= fall.is_some_and(|c| lower <= *c);
+                    if self.bounded.as_ref().is_none_or(|b| lower < *b) {
+                        self.bounded = Some(lower.clone());
+                    }
+                    self.stored.push(Stored::Bounded { lower });
+                }
+            }
+        }
+        fell
+    }
 
     /// The bracket so far (None: no moving instant yet).
     pub fn separation(&self) -> Option<Separation> {
-        let lower = self.lower.as_ref()?;
-        let (upper, at) = self.upper.as_ref()?;
+        let bracket = self.bracket.get_or_init(|| self.bracketed());
+        let lower = bracket.lower.as_ref()?;
+        let (upper, at) = bracket.upper.as_ref()?;
         Some(Separation {
             lower: sqrt_bounds(lower).0 - &self.radii,
             upper: sqrt_bounds(upper).1 - &self.radii,
             at: at.clone(),
         })
+    }
+
+    /// The bracket over every piece so far, the least-looking pieces first.
+    fn bracketed(&self) -> Bracket {
+        let mut bracket = Bracket::default();
+        if let Some(b) = &self.bounded {
+            bracket.lower_to(b);
+        }
+        let mut order: Vec<(f64, usize)> = self
+            .stored
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| match s {
+                Stored::Exact { from, to, d, .. } => Some((estimate(d, from, to), k)),
+                Stored::Bounded { .. } => None,
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (_, k) in order {
+            if let Stored::Exact {
+                t0, from, to, d, ..
+            } = &self.stored[k]
+            {
+                bracket.add(d, from, to, t0);
+            }
+        }
+        bracket
     }
 
     /// Whether some moving instant separates by ≤ `clearance`: decided exactly on every
@@ -209,6 +268,7 @@ impl Track {
                     to,
                     d,
                     open_end,
+                    ..
                 } => {
                     if reaches(d, &c, from, to, *open_end) {
                         return Some(true);
