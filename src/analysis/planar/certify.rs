@@ -8,11 +8,11 @@
 //! witness's separation less the tolerance, so a tight relaxation closes the bracket.
 
 use crate::core::num::Exact;
-use crate::core::planar::PlanarParams;
+use crate::core::planar::{PlanarBehaviour, PlanarParams};
 
 use super::lower_bound::{BoundOptions, LowerBound, LowerBoundError, lower_bound};
 use super::pursuit::pursuit_witness;
-use super::witness::{Witness, steps_after, witness};
+use super::witness::{Witness, steps_after, witness_new};
 
 /// What the planar analysis decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,7 +81,8 @@ pub fn certify_planar(
         unsolved: first.unsolved,
         runs: Vec::new(),
     };
-    consider(params, &first, &mut answer);
+    let mut tried = Vec::new();
+    consider(params, &first, &mut answer, &mut tried);
     consider_pursuit(params, &mut answer);
     answer.runs.push((clearance.clone(), first));
     if let Some(u) = answer.upper.clone()
@@ -101,7 +102,7 @@ pub fn certify_planar(
         if l > answer.lower {
             answer.lower = l;
         }
-        consider(params, &second, &mut answer);
+        consider(params, &second, &mut answer, &mut tried);
         answer.runs.push((goal, second));
     }
     let collides = answer
@@ -149,9 +150,14 @@ fn consider_pursuit(params: &PlanarParams, answer: &mut PlanarAnswer) {
 }
 
 /// Replays witnesses from `bound`'s lowest leaves and keeps the least so far.
-fn consider(params: &PlanarParams, bound: &LowerBound, answer: &mut PlanarAnswer) {
+fn consider(
+    params: &PlanarParams,
+    bound: &LowerBound,
+    answer: &mut PlanarAnswer,
+    tried: &mut Vec<(PlanarBehaviour, usize)>,
+) {
     for leaf in &bound.low {
-        let Some(found) = witness(params, leaf) else {
+        let Some(found) = witness_new(params, leaf, tried) else {
             continue;
         };
         let Some(u) = found.upper() else {

@@ -39,9 +39,26 @@ impl Witness {
 /// The least replayed candidate built from `worst`, replayed until the robot has had
 /// time to rest after the leaf's instants.
 pub fn witness(params: &PlanarParams, worst: &WorstLeaf) -> Option<Witness> {
+    witness_new(params, worst, &mut Vec::new())
+}
+
+/// [`witness`], skipping the candidates in `tried` (neighbouring leaves often build the
+/// same behaviours; a replay is the costly part) and adding the new ones to it, each
+/// with the number of steps it is replayed for.
+pub fn witness_new(
+    params: &PlanarParams,
+    worst: &WorstLeaf,
+    tried: &mut Vec<(PlanarBehaviour, usize)>,
+) -> Option<Witness> {
     let steps = steps_after(params, &worst.to);
     let mut best: Option<Witness> = None;
     for behaviour in candidates(params, worst) {
+        let key = (behaviour, steps);
+        if tried.contains(&key) {
+            continue;
+        }
+        tried.push(key.clone());
+        let behaviour = key.0;
         let Ok(run) = run(params, &behaviour, steps) else {
             continue;
         };
