@@ -12,7 +12,7 @@ use crate::core::planar::{PlanarBehaviour, PlanarParams};
 
 use super::lower_bound::{BoundOptions, LowerBound, LowerBoundError, lower_bound};
 use super::pursuit::pursuit_witness;
-use super::witness::{Witness, steps_after, witness_new};
+use super::witness::{Witness, steps_after, witness_untried};
 
 /// What the planar analysis decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -157,7 +157,7 @@ fn consider(
     tried: &mut Vec<(PlanarBehaviour, usize)>,
 ) {
     for leaf in &bound.low {
-        let Some(found) = witness_new(params, leaf, tried) else {
+        let Some(found) = witness_untried(params, leaf, tried) else {
             continue;
         };
         let Some(u) = found.upper() else {

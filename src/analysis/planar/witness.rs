@@ -39,13 +39,13 @@ impl Witness {
 /// The least replayed candidate built from `worst`, replayed until the robot has had
 /// time to rest after the leaf's instants.
 pub fn witness(params: &PlanarParams, worst: &WorstLeaf) -> Option<Witness> {
-    witness_new(params, worst, &mut Vec::new())
+    witness_untried(params, worst, &mut Vec::new())
 }
 
 /// [`witness`], skipping the candidates in `tried` (neighbouring leaves often build the
 /// same behaviours; a replay is the costly part) and adding the new ones to it, each
 /// with the number of steps it is replayed for.
-pub fn witness_new(
+pub fn witness_untried(
     params: &PlanarParams,
     worst: &WorstLeaf,
     tried: &mut Vec<(PlanarBehaviour, usize)>,
