@@ -9,8 +9,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
-use safereach::analysis::planar::certify_text;
-use safereach::analysis::region_search::{RegionOptions, map_region, map_scene_region};
+use safereach::analysis::planar::{
+    BoundaryError, KnobError, certify_text, max_speed_search, safe_radius_search,
+};
+use safereach::analysis::region_search::{
+    RegionOptions, map_planar_region, map_region, map_scene_region,
+};
 use safereach::analysis::scene_answer::SceneAnswer;
 use safereach::analysis::{self, radius};
 use safereach::core::model::Problem as LibProblem;
@@ -402,11 +406,50 @@ fn single(problem: &Problem, what: &str) -> PyResult<LibProblem> {
     }
 }
 
+/// A planar search's error as Python sees it: a bad request or problem is an InputError,
+/// a probe that could not be answered an AnalysisError.
+fn knob_error(e: KnobError) -> PyErr {
+    match e {
+        KnobError::Input(why) => InputError::new_err(why),
+        KnobError::Probe(BoundaryError::Problem(p)) => InputError::new_err(p.to_string()),
+        KnobError::Probe(other) => AnalysisError::new_err(other.to_string()),
+    }
+}
+
 /// The smallest certified reaction radius (m) at the problem's obstacle speed, or for each
 /// of `speeds` (then a list); None where no radius certifies.
 #[pyfunction]
 #[pyo3(signature = (problem, speeds = None))]
 fn safe_radius(py: Python<'_>, problem: &Problem, speeds: Option<Vec<f64>>) -> PyResult<Py<PyAny>> {
+    if let Input::Planar(base) = &problem.input {
+        let list = speeds.is_some();
+        let speeds: Vec<Option<f64>> = match speeds {
+            Some(ws) => ws.into_iter().map(Some).collect(),
+            None => vec![None],
+        };
+        let (text, origin, sets, base) = (
+            problem.text.clone(),
+            problem.origin.clone(),
+            problem.sets.clone(),
+            base.clone(),
+        );
+        let radii = py.detach(move || -> Result<Vec<Option<f64>>, KnobError> {
+            speeds
+                .iter()
+                .map(|w| {
+                    let speed = w.map(|w| (w, None));
+                    safe_radius_search(&text, &origin, &sets, &base, speed, |_| {})
+                        .map(|(_, b)| b.certified.map(|p| p.value))
+                })
+                .collect()
+        });
+        let radii = radii.map_err(knob_error)?;
+        return if list {
+            Ok(radii.into_pyobject(py)?.into_any().unbind())
+        } else {
+            Ok(radii[0].into_pyobject(py)?.into_any().unbind())
+        };
+    }
     let base = single(problem, "safe_radius")?;
     let list = speeds.is_some();
     let speeds = speeds.unwrap_or_else(|| vec![base.environment.obstacle_speed]);
@@ -436,6 +479,18 @@ fn safe_radius(py: Python<'_>, problem: &Problem, speeds: Option<Vec<f64>>) -> P
 /// None when none certifies.
 #[pyfunction]
 fn max_speed(py: Python<'_>, problem: &Problem) -> PyResult<Option<f64>> {
+    if let Input::Planar(base) = &problem.input {
+        let (text, origin, sets, base) = (
+            problem.text.clone(),
+            problem.origin.clone(),
+            problem.sets.clone(),
+            base.clone(),
+        );
+        return py
+            .detach(move || max_speed_search(&text, &origin, &sets, &base, None, |_| {}))
+            .map(|b| b.certified.map(|p| p.value))
+            .map_err(knob_error);
+    }
     let p = single(problem, "max_speed")?;
     py.detach(move || radius::max_speed(&p).map(|b| b.value))
         .map_err(|e| AnalysisError::new_err(e.to_string()))
@@ -526,6 +581,7 @@ fn region(
         }
         input => input.clone(),
     };
+    let (text, sets) = (problem.text.clone(), problem.sets.clone());
     let map = py
         .detach(move || match &input {
             Input::Problem(p) => {
@@ -534,9 +590,8 @@ fn region(
             Input::Scene(s) => {
                 map_scene_region(s, &whole, &options, &|_| {}).map_err(|e| e.to_string())
             }
-            Input::Planar(_) => {
-                Err("region does not take planar problems yet (`safereach region` neither)".into())
-            }
+            Input::Planar(p) => map_planar_region(&text, &sets, p, &whole, &options, &|_| {})
+                .map_err(|e| e.to_string()),
         })
         .map_err(InputError::new_err)?;
     let json = serde_json::to_value(&map).expect("maps serialise");

@@ -304,8 +304,23 @@ def test_planar_problems_certify_as_the_command_line_does_and_check_exactly(tmp_
     assert refuted.verdict == "refuted" and refuted.witness["collides"] is True
     assert sr.check(refuted) == "refuted"
     with pytest.raises(sr.InputError) as e:
-        sr.safe_radius(p)
-    assert "planar" in str(e.value)
-    with pytest.raises(sr.InputError) as e:
         p.set("obstacle.0.max_speed", -1.0)
     assert "max_speed" in str(e.value)
+
+
+def test_planar_radius_speed_and_region_answer_as_the_line_does():
+    """The seed in the plane: its smallest safe radius and largest safe speed are the
+    line's to the planar search's resolution (1e-3), and its region map over a certified
+    box checks as certified whole."""
+    planar = sr.Problem.from_file(str(ROOT / "problems" / "planar" / "seed-in-plane.toml"))
+    line = sr.Problem.from_file(str(ROOT / "problems" / "seed.toml"))
+    radius = sr.safe_radius(planar)
+    assert abs(radius - sr.safe_radius(line)) <= 1.5e-3
+    assert sr.safe_radius(planar, [0.15]) == [radius]  # the file's speed bound, as a list
+    assert abs(sr.max_speed(planar) - sr.max_speed(line)) <= 1.5e-3
+    m = sr.region(planar, {"controller.reaction_radius": (1.3, 1.6),
+                           "obstacle.0.max_speed": (0.1, 0.2)}, depth=2)
+    assert m.check() is True and m.coverage["certified"] == 1.0
+    with pytest.raises(sr.InputError) as e:
+        sr.region(planar, {"sensing.gap_noise": (0.0, 0.1)})
+    assert "Lemma P7" in str(e.value)

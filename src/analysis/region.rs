@@ -19,6 +19,7 @@ use crate::core::model::Problem;
 use crate::core::num::{Exact, f64_at_most};
 use crate::core::param_box::ParamBox;
 use crate::core::parameter::{ParamAffine, Parameter};
+use crate::proof::planar::certificate::PlanarCertificate;
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::region_check::{box_proof_value, describe};
 use crate::proof::region_map::BoxProof;
@@ -35,6 +36,8 @@ pub struct BoxCertificate {
     pub proofs: Vec<BoxProof>,
     /// The least lower bound on s* over the box.
     pub lower_bound: Exact,
+    /// A planar box's proof instead of `proofs`: the certificate at its weak corner.
+    pub planar: Option<Box<PlanarCertificate>>,
 }
 
 /// A box not certified (yet): why, and the proofs found on the way.
@@ -59,6 +62,7 @@ pub fn certify_box(
         Ok((proofs, lower_bound)) => Ok(BoxCertificate {
             proofs,
             lower_bound,
+            planar: None,
         }),
         Err(reason) => Err(NotCertified {
             reason,

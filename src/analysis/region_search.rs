@@ -20,12 +20,14 @@ use rustc_hash::FxHashMap;
 
 use rayon::prelude::*;
 
+use crate::analysis::planar::PlanarRegion;
 use crate::analysis::region::Hints;
 use crate::analysis::region_subject::{LeafRefutation, RegionSubject};
 use crate::core::budget::{Work, grouped};
 use crate::core::model::Problem;
 use crate::core::num::f64_at_most;
 use crate::core::param_box::ParamBox;
+use crate::core::planar::PlanarProblem;
 use crate::core::scene::Scene;
 use crate::proof::region_map::{
     Coverage, FORMAT, Leaf, LeafVerdict, RegionMap, bounds_of, path_letter, volume_fraction,
@@ -117,6 +119,20 @@ pub fn map_scene_region(
     map_subject(scene, whole, options, on_decided)
 }
 
+/// Maps the planar problem file `text` with `overrides` (read as `problem`) over `whole`,
+/// whose axes are the keys of Lemma P7 (docs/reductions.md): see [`map_region`].
+pub fn map_planar_region(
+    text: &str,
+    overrides: &[String],
+    problem: &PlanarProblem,
+    whole: &ParamBox,
+    options: &RegionOptions,
+    on_decided: &(dyn Fn(f64) + Sync),
+) -> Result<RegionMap, RegionError> {
+    let subject = PlanarRegion::new(text, overrides, problem);
+    map_subject(&subject, whole, options, on_decided)
+}
+
 fn map_subject<S: RegionSubject>(
     subject: &S,
     whole: &ParamBox,
@@ -156,6 +172,7 @@ fn map_subject<S: RegionSubject>(
                     proofs: Vec::new(),
                     refutation: None,
                     scene_refutation: None,
+                    planar_certificate: None,
                     reason: Some(reason.clone()),
                 });
             }
@@ -196,6 +213,7 @@ fn map_subject<S: RegionSubject>(
         format: FORMAT.into(),
         problem: None,
         scene: None,
+        planar: None,
         ranges: whole.axes.clone(),
         depth: options.depth,
         leaves,
@@ -232,6 +250,7 @@ fn decide<S: RegionSubject>(
         proofs: Vec::new(),
         refutation: None,
         scene_refutation: None,
+        planar_certificate: None,
         reason,
     };
     let share = volume_fraction(whole, &task.b);
@@ -247,6 +266,7 @@ fn decide<S: RegionSubject>(
                 let mut l = leaf(LeafVerdict::Certified, None);
                 l.lower_bound = Some(f64_at_most(&cert.lower_bound));
                 l.proofs = cert.proofs;
+                l.planar_certificate = cert.planar;
                 return Decided::Leaf(l, solved);
             }
             Err(nc) => (
@@ -261,6 +281,7 @@ fn decide<S: RegionSubject>(
                 match r {
                     LeafRefutation::Problem(r) => l.refutation = Some(r),
                     LeafRefutation::Scene(r) => l.scene_refutation = Some(r),
+                    LeafRefutation::Planar(c) => l.planar_certificate = Some(c),
                 }
                 return Decided::Leaf(l, solved);
             }
@@ -319,13 +340,8 @@ fn corner_sides<S: RegionSubject>(
         certified: None,
         not_certified: None,
     };
-    for mask in 0..(1u32 << b.axes.len()) {
-        let values: Vec<f64> = b
-            .axes
-            .iter()
-            .enumerate()
-            .map(|(i, a)| if mask >> i & 1 == 1 { a.hi } else { a.lo })
-            .collect();
+    for mask in subject.corners(b) {
+        let values = b.corner_values(mask);
         let key: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
         let slot = Arc::clone(
             corners

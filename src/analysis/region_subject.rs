@@ -8,6 +8,7 @@ use crate::analysis::analyse::{Options, WitnessPolicy, analyse_with};
 use crate::analysis::region::{BoxCertificate, Hints, NotCertified, certify_box};
 use crate::core::model::Problem;
 use crate::core::param_box::ParamBox;
+use crate::proof::planar::certificate::PlanarCertificate;
 use crate::proof::region_check::refusal;
 use crate::proof::region_map::{Refutation, RegionMap, SceneRefutation};
 use crate::proof::verdict::Verdict;
@@ -19,6 +20,8 @@ pub enum LeafRefutation {
     Problem(Refutation),
     /// At a point of a scene map.
     Scene(SceneRefutation),
+    /// At a point of a planar map: its refuted certificate.
+    Planar(Box<PlanarCertificate>),
 }
 
 /// What region maps can be drawn over.
@@ -33,6 +36,13 @@ pub trait RegionSubject: Sync {
         hints: &Hints,
         solved: &mut usize,
     ) -> Result<BoxCertificate, NotCertified>;
+
+    /// The corners of `b` whose verdicts decide how it is searched, each as a mask (bit i
+    /// set: axis i at its upper end), in the order they are analysed: every corner, unless
+    /// the subject knows fewer suffice.
+    fn corners(&self, b: &ParamBox) -> Vec<u32> {
+        (0..(1u32 << b.axes.len())).collect()
+    }
 
     /// The verdict where each axis of `b` takes its value in `values` (no witness is
     /// replayed), and the programs solved.

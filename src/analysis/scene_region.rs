@@ -49,6 +49,7 @@ pub fn certify_scene_box(
     Ok(BoxCertificate {
         proofs,
         lower_bound: lower.expect("a covered scene has an obstacle in the robot's lane"),
+        planar: None,
     })
 }
 

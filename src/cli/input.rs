@@ -20,8 +20,9 @@ pub enum Input {
     Problem(Problem),
     /// A scene file (or a problem file whose overrides make it a scene, e.g. `robot.goal`).
     Scene(Scene),
-    /// A planar problem file (docs/semantics.md §13): certify, simulate, radius and
-    /// max-speed answer it; the other commands say they do not yet (issue 36).
+    /// A planar problem file (docs/semantics.md §13): certify, simulate, radius,
+    /// max-speed, region, sweep and monitor answer it; explore and export-uppaal say they
+    /// do not yet (issue 36).
     Planar(PlanarProblem),
 }
 

@@ -11,7 +11,9 @@ use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-use safereach::analysis::planar::{PlanarBoundary, PlanarProbe, Safer, planar_boundary};
+use safereach::analysis::planar::{
+    KnobError, PlanarBoundary, PlanarProbe, RESOLUTION, max_speed_search, safe_radius_search,
+};
 use safereach::core::planar::PlanarProblem;
 use safereach::core::show::{down, up, value};
 use safereach::core::text_file;
@@ -19,9 +21,6 @@ use safereach::core::text_file;
 use super::exit::Exit;
 use super::output::{Output, create_dir, write_file};
 use super::planar_certify::explain;
-
-/// Radii and speeds are searched to this (m, m/s).
-const RESOLUTION: f64 = 1e-3;
 
 /// One search as `--json` prints it.
 #[derive(Serialize)]
@@ -67,27 +66,6 @@ fn read(path: &Path, sets: &[String]) -> Result<(String, PlanarProblem)> {
     Ok((text, problem))
 }
 
-/// The `obstacle.N.max_speed` keys of the moving obstacles `name` selects (all: None).
-fn speed_keys(problem: &PlanarProblem, name: Option<&str>, flag: &str) -> Result<Vec<String>> {
-    if let Some(n) = name
-        && !problem.obstacles.iter().any(|o| o.name == n)
-    {
-        anyhow::bail!("--obstacle {n}: the problem has no such obstacle");
-    }
-    let keys: Vec<String> = problem
-        .obstacles
-        .iter()
-        .enumerate()
-        .filter(|(_, o)| name.map_or(o.max_speed > 0.0, |n| o.name == n))
-        .map(|(i, _)| format!("obstacle.{i}.max_speed"))
-        .collect();
-    anyhow::ensure!(
-        !keys.is_empty(),
-        "{flag}: the problem has no moving obstacle"
-    );
-    Ok(keys)
-}
-
 fn progress(what: &str) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
@@ -100,30 +78,18 @@ fn progress(what: &str) -> ProgressBar {
     bar
 }
 
-/// One search, shown as it goes.
-fn search(
-    text: &str,
-    path: &Path,
-    sets: &[String],
-    keys: &[String],
-    interval: (f64, f64),
-    safer: Safer,
-    what: &str,
-) -> Result<PlanarBoundary> {
-    let bar = progress(what);
-    let found = planar_boundary(
-        text,
-        &path.display().to_string(),
-        sets,
-        keys,
-        interval,
-        RESOLUTION,
-        safer,
-        |p| bar.set_message(format!("{} at {}", p.verdict.as_str(), value(p.value))),
-    )
-    .map_err(|e| explain(path, e));
-    bar.finish_and_clear();
-    found
+/// The error of a search, in the user's terms: a bad request or problem as itself, else
+/// naming the file.
+fn knob_error(path: &Path, e: KnobError) -> anyhow::Error {
+    match e {
+        KnobError::Input(why) => anyhow::anyhow!("{why}"),
+        KnobError::Probe(e) => explain(path, e),
+    }
+}
+
+/// What the spinner says after each probe.
+fn shown(bar: &ProgressBar) -> impl FnMut(&PlanarProbe) + '_ {
+    |p| bar.set_message(format!("{} at {}", p.verdict.as_str(), value(p.value)))
 }
 
 fn report(
@@ -184,11 +150,7 @@ pub fn radius(
     out: &mut Output,
 ) -> Result<Exit> {
     let (text, base) = read(path, sets)?;
-    let hi = base
-        .sensing
-        .range
-        .unwrap_or(4.0 * base.controller.reaction_radius);
-    let key = vec!["controller.reaction_radius".to_string()];
+    let origin = path.display().to_string();
     let speeds: Vec<Option<f64>> = if speeds.is_empty() {
         vec![None]
     } else {
@@ -197,20 +159,17 @@ pub fn radius(
     let mut reports = Vec::new();
     let mut all = true;
     for w in &speeds {
-        let mut probe_sets = sets.to_vec();
-        if let Some(w) = w {
-            let keys = speed_keys(&base, obstacle, "--speeds")?;
-            probe_sets.extend(keys.iter().map(|k| format!("{k}={w}")));
-        }
-        let b = search(
+        let bar = progress("planar radius");
+        let found = safe_radius_search(
             &text,
-            path,
-            &probe_sets,
-            &key,
-            (RESOLUTION, hi),
-            Safer::Larger,
-            "planar radius",
-        )?;
+            &origin,
+            sets,
+            &base,
+            w.map(|w| (w, obstacle)),
+            shown(&bar),
+        );
+        bar.finish_and_clear();
+        let (probe_sets, b) = found.map_err(|e| knob_error(path, e))?;
         all &= b.certified.is_some();
         if let (Some(dir), Some(c)) = (certificates, &b.certified) {
             create_dir(dir)?;
@@ -256,23 +215,17 @@ pub fn max_speed(
     out: &mut Output,
 ) -> Result<Exit> {
     let (text, base) = read(path, sets)?;
-    let keys = speed_keys(&base, obstacle, "max-speed")?;
-    let w = base
-        .obstacles
-        .iter()
-        .filter(|o| obstacle.is_none_or(|n| o.name == n))
-        .map(|o| o.max_speed)
-        .fold(0.0, f64::max);
-    let hi = if w > 0.0 { 4.0 * w } else { 10.0 };
-    let b = search(
+    let bar = progress("planar max-speed");
+    let found = max_speed_search(
         &text,
-        path,
+        &path.display().to_string(),
         sets,
-        &keys,
-        (0.0, hi),
-        Safer::Smaller,
-        "planar max-speed",
-    )?;
+        &base,
+        obstacle,
+        shown(&bar),
+    );
+    bar.finish_and_clear();
+    let b = found.map_err(|e| knob_error(path, e))?;
     if let (Some(file), Some(c)) = (out_file, &b.certified) {
         let json = serde_json::to_string_pretty(&c.certificate)? + "\n";
         write_file(file, json.as_bytes())?;

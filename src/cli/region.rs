@@ -10,12 +10,13 @@ use safereach::core::budget::Work;
 
 use safereach::analysis::Verdict;
 use safereach::analysis::region_search::{
-    DEFAULT_DEPTH, RegionOptions, map_region, map_scene_region,
+    DEFAULT_DEPTH, RegionOptions, map_planar_region, map_region, map_scene_region,
 };
 use safereach::analysis::report::region_plot;
 use safereach::core::param_box::{Axis, ParamBox};
 use safereach::core::scene::Scene;
 use safereach::core::show;
+use safereach::core::text_file;
 use safereach::proof::region_check::{check_map, describe_box};
 use safereach::proof::region_map::{LeafVerdict, RegionMap};
 
@@ -32,7 +33,9 @@ pub struct RegionArgs {
     /// controller.reaction_radius, controller.assumed_obstacle_speed, controller.buffer,
     /// environment.initial_gap, robot.clearance, sensing.gap_noise, sensing.speed_noise,
     /// sensing.first_detection_gap; in a scene the controller's keys, robot.clearance and
-    /// each obstacle's obstacle.<i>.max_speed and obstacle.<i>.position.
+    /// each obstacle's obstacle.<i>.max_speed and obstacle.<i>.position; in a planar problem
+    /// controller.reaction_radius, controller.assumed_obstacle_speed, controller.buffer,
+    /// robot.clearance and obstacle.<i>.max_speed.
     #[arg(long = "range", value_name = "KEY=LO..HI", required = true)]
     ranges: Vec<String>,
     /// Override a key (repeatable).
@@ -92,7 +95,11 @@ pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
     let map = match &input {
         Input::Problem(problem) => map_region(problem, &whole, &options, &on_decided),
         Input::Scene(scene) => map_scene_region(scene, &whole, &options, &on_decided),
-        Input::Planar(_) => return Err(input::planar_unsupported(&args.problem, "region")),
+        Input::Planar(problem) => {
+            let text = text_file::read_text(&args.problem, text_file::MAX_PROBLEM_BYTES)
+                .map_err(|e| anyhow::anyhow!("reading {}: {e}", args.problem.display()))?;
+            map_planar_region(&text, &args.sets, problem, &whole, &options, &on_decided)
+        }
     }
     .map_err(|e| anyhow::anyhow!("{}: {e}", args.problem.display()))?;
     bar.finish_and_clear();

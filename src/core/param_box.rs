@@ -170,6 +170,16 @@ pub struct ParamBox {
 }
 
 impl ParamBox {
+    /// The value of each axis at the corner `mask` names (bit i set: axis i at its upper
+    /// end), in axis order.
+    pub fn corner_values(&self, mask: u32) -> Vec<f64> {
+        self.axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| if mask >> i & 1 == 1 { a.hi } else { a.lo })
+            .collect()
+    }
+
     /// A box from its axes; the reason when two axes name one parameter, an end is not
     /// finite, or an axis is reversed.
     pub fn new(axes: Vec<Axis>) -> Result<Self, String> {

@@ -12,6 +12,9 @@
 //! 5. each refuted leaf's point lies in the leaf and its behaviour, replayed exactly at that
 //!    point, collides;
 //! 6. the stated coverage follows from the leaves.
+//!
+//! A planar map's leaves carry planar certificates instead, checked by
+//! [`crate::proof::planar::region`] (at the weak corner: Lemma P7).
 
 use std::collections::BTreeMap;
 
@@ -22,6 +25,7 @@ use crate::core::parameter::{ParamAffine, Parameter};
 use crate::core::scene::Scene;
 use crate::core::simulate;
 use crate::proof::check::{Invalid, shown};
+use crate::proof::planar::region::{self as planar_region, PlanarSource};
 use crate::proof::program::{Program, ProofKind};
 use crate::proof::region_map::{
     BoxProof, Coverage, FORMAT, Leaf, LeafVerdict, Refutation, RegionMap, bounds_of, box_at,
@@ -121,23 +125,28 @@ pub fn check_map(map: &RegionMap) -> Result<MapReport, Invalid> {
     if map.compute_digest() != map.digest {
         return invalid("digest mismatch: the map was edited after it was written");
     }
-    let subject = match (&map.problem, &map.scene) {
-        (Some(p), None) => {
+    let subject = match (&map.problem, &map.scene, &map.planar) {
+        (Some(p), None, None) => {
             p.validate("map problem")
                 .map_err(|e| Invalid(format!("the map's problem is invalid: {e}")))?;
             Mapped::Problem(p)
         }
-        (None, Some(s)) => {
+        (None, Some(s), None) => {
             s.validate("map scene")
                 .map_err(|e| Invalid(format!("the map's scene is invalid: {e}")))?;
             Mapped::Scene(s)
         }
-        _ => return invalid("a map names exactly one of a problem and a scene"),
+        (None, None, Some(q)) => {
+            planar_region::check_source(q)?;
+            Mapped::Planar(q)
+        }
+        _ => return invalid("a map names exactly one of a problem, a scene and a planar problem"),
     };
     let whole = map.whole();
     let refused = match subject {
         Mapped::Problem(p) => refusal(p, &whole),
         Mapped::Scene(s) => scene_refusal(s, &whole),
+        Mapped::Planar(q) => planar_region::planar_refusal(q, &whole),
     };
     if let Some(reason) = refused {
         return invalid(format!(
@@ -234,10 +243,17 @@ fn check_partition(leaves: &[Leaf], depth: u32) -> Result<(), Invalid> {
 enum Mapped<'a> {
     Problem(&'a Problem),
     Scene(&'a Scene),
+    Planar(&'a PlanarSource),
 }
 
 /// One leaf's evidence.
 fn check_leaf(subject: Mapped, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid> {
+    if let Mapped::Planar(q) = subject {
+        return check_planar_leaf(q, b, leaf);
+    }
+    if leaf.planar_certificate.is_some() {
+        return invalid("a leaf of a map that is not planar carries a planar certificate");
+    }
     let refuted = leaf.refutation.is_some() || leaf.scene_refutation.is_some();
     match leaf.verdict {
         LeafVerdict::Certified => {
@@ -250,6 +266,7 @@ fn check_leaf(subject: Mapped, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid>
                     box_margin(&dec, &dec.pieces, &leaf.proofs, None)?
                 }
                 Mapped::Scene(s) => scene_box_margin(s, b, &leaf.proofs)?,
+                Mapped::Planar(_) => unreachable!("planar leaves are checked above"),
             };
             if margin <= Exact::ZERO {
                 return invalid("the proofs do not keep s* above the clearance everywhere");
@@ -272,6 +289,28 @@ fn check_leaf(subject: Mapped, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid>
             }
             Ok(())
         }
+    }
+}
+
+/// One planar leaf's evidence: a certificate at its weak corner (certified) or at a
+/// colliding point of it (refuted), and nothing of the line's.
+fn check_planar_leaf(source: &PlanarSource, b: &ParamBox, leaf: &Leaf) -> Result<(), Invalid> {
+    if !leaf.proofs.is_empty() || leaf.refutation.is_some() || leaf.scene_refutation.is_some() {
+        return invalid("a planar leaf carries the line's proofs or refutations");
+    }
+    match (leaf.verdict, &leaf.planar_certificate) {
+        (LeafVerdict::Certified, Some(c)) => {
+            planar_region::check_certified_leaf(source, b, c, leaf.lower_bound)
+        }
+        (LeafVerdict::Refuted, Some(c)) => {
+            if leaf.lower_bound.is_some() {
+                return invalid("a refuted leaf states a lower bound");
+            }
+            planar_region::check_refuted_leaf(source, b, c)
+        }
+        (LeafVerdict::Undecided, None) if leaf.lower_bound.is_none() => Ok(()),
+        (LeafVerdict::Undecided, _) => invalid("an undecided leaf carries evidence for a verdict"),
+        (_, None) => invalid("a decided planar leaf carries no certificate"),
     }
 }
 

@@ -18,6 +18,8 @@ use serde::{Deserialize, Serialize};
 use crate::core::model::Problem;
 use crate::core::param_box::{Axis, ParamBox};
 use crate::core::scene::Scene;
+use crate::proof::planar::certificate::PlanarCertificate;
+use crate::proof::planar::region::PlanarSource;
 use crate::proof::program::ProofKind;
 use crate::proof::schedule::Piece;
 
@@ -121,6 +123,10 @@ pub struct Leaf {
     /// Refuted, in a scene map: the colliding point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene_refutation: Option<SceneRefutation>,
+    /// In a planar map: a certified leaf's certificate at its weak corner, or a refuted
+    /// leaf's at its colliding point (docs/reductions.md Lemma P7).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub planar_certificate: Option<Box<PlanarCertificate>>,
     /// Undecided (or a remark): why.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
@@ -154,6 +160,9 @@ pub struct RegionMap {
     /// The scene mapped (a scene map, instead of `problem`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene: Option<Scene>,
+    /// The planar problem mapped (a planar map, instead of `problem` and `scene`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub planar: Option<PlanarSource>,
     /// The whole box, axes in the order given.
     pub ranges: Vec<Axis>,
     /// Most splits on the way to a leaf the search allowed.
@@ -185,19 +194,21 @@ impl RegionMap {
 
     /// The mapped problem's or scene's name.
     pub fn name(&self) -> &str {
-        match (&self.problem, &self.scene) {
-            (Some(p), _) => &p.name,
-            (None, Some(s)) => &s.name,
-            (None, None) => "",
+        match (&self.problem, &self.scene, &self.planar) {
+            (Some(p), _, _) => &p.name,
+            (None, Some(s), _) => &s.name,
+            (None, None, Some(q)) => &q.name,
+            (None, None, None) => "",
         }
     }
 
     /// The clearance (m) of the mapped problem or scene, at the map's base values.
     pub fn clearance(&self) -> f64 {
-        match (&self.problem, &self.scene) {
-            (Some(p), _) => p.robot.clearance,
-            (None, Some(s)) => s.robot.clearance,
-            (None, None) => 0.0,
+        match (&self.problem, &self.scene, &self.planar) {
+            (Some(p), _, _) => p.robot.clearance,
+            (None, Some(s), _) => s.robot.clearance,
+            (None, None, Some(q)) => q.clearance,
+            (None, None, None) => 0.0,
         }
     }
 

@@ -43,6 +43,7 @@ mod planar_keymaera;
 mod planar_monitor;
 mod planar_monitor_cli;
 mod planar_oracle;
+mod planar_region;
 mod planar_replay;
 mod planar_rotation;
 mod planar_sweep;

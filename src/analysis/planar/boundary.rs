@@ -10,13 +10,13 @@
 //! and only the certified probe's value is claimed, for that value alone.
 
 use crate::core::model::ProblemError;
-use crate::core::num::exact_decimal;
+use crate::core::num::{Exact, exact_decimal};
 use crate::core::planar::PlanarProblem;
 use crate::proof::planar::certificate::PlanarCertificate;
 use crate::proof::planar::check::check_planar;
 
 use super::certificate::{ProblemText, planar_certificate};
-use super::certify::{PlanarVerdict, certify_planar};
+use super::certify::{PlanarVerdict, bound_planar, certify_planar};
 use super::lower_bound::{BoundOptions, LowerBoundError};
 
 /// One probe of the search.
@@ -163,11 +163,33 @@ pub fn certify_text(
     origin: &str,
     overrides: &[String],
 ) -> Result<(PlanarVerdict, PlanarCertificate), BoundaryError> {
+    answer_text(text, origin, overrides, Work::Certify).map(|(v, c, _)| (v, c))
+}
+
+/// How much of the analysis [`answer_text`] runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    /// Bound, witnesses and the refined bound ([`certify_planar`]).
+    Certify,
+    /// The bound with the clearance as its goal alone ([`bound_planar`]).
+    BoundOnly,
+}
+
+/// As [`certify_text`] with the analysis `work` asks for, and the exact lower bound proved.
+pub fn answer_text(
+    text: &str,
+    origin: &str,
+    overrides: &[String],
+    work: Work,
+) -> Result<(PlanarVerdict, PlanarCertificate, Exact), BoundaryError> {
     let problem = PlanarProblem::from_toml_str_with_overrides(text, origin, overrides)?;
     let params = problem.params();
     let options = BoundOptions::default();
-    let answer = certify_planar(&params, &options, &exact_decimal(TOLERANCE))
-        .map_err(BoundaryError::Bound)?;
+    let answer = match work {
+        Work::Certify => certify_planar(&params, &options, &exact_decimal(TOLERANCE)),
+        Work::BoundOnly => bound_planar(&params, &options),
+    }
+    .map_err(BoundaryError::Bound)?;
     let stored = ProblemText {
         toml: text,
         overrides,
@@ -181,7 +203,7 @@ pub fn certify_text(
         TOLERANCE,
     );
     check_planar(&certificate).map_err(|e| BoundaryError::Unverified(e.0))?;
-    Ok((answer.verdict, certificate))
+    Ok((answer.verdict, certificate, answer.lower))
 }
 
 /// The bracket s* is refined to where the relaxation allows (issue 36 asks 1e-6 of

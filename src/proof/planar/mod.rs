@@ -9,6 +9,7 @@ pub mod cover;
 pub mod domain;
 pub mod exact_text;
 pub mod leaf;
+pub mod region;
 pub mod tiling;
 pub mod trajectory;
 pub mod witness_record;
