@@ -57,7 +57,9 @@ pub fn radius_curve(grid: &Grid) -> Result<Curve, String> {
         return Ok(Curve::NotApplicable(
             "a planar ρ* is a bisection of a dozen or so planar certifications (about a second \
              each), too many to draw a curve of in a report; `safereach radius` on the planar \
-             problem, with the slice's keys set, finds each point, certified"
+             problem, with the slice's keys set, finds each point, certified; the certified \
+             map of the (W, ρ) plane above bounds the curve between its certified and refuted \
+             leaves"
                 .into(),
         ));
     }

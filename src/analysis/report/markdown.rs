@@ -70,8 +70,8 @@ fn write_certified_map(
     let cells: Vec<PointCell> = results
         .iter()
         .filter_map(|r| {
-            let x = r.axes.get(super::SPEED_KEY)?.as_f64()?;
-            let y = r.axes.get(super::RADIUS_KEY)?.as_f64()?;
+            let x = r.axes.get(&w.key())?.as_f64()?;
+            let y = r.axes.get(&rho.key())?.as_f64()?;
             Some((x, y, r.verdict))
         })
         .collect();
@@ -80,16 +80,22 @@ fn write_certified_map(
     let _ = writeln!(
         md,
         "Not just the {} cells: every point of W ∈ [{}, {}] m/s × ρ ∈ [{}, {}] m, one proof per \
-         leaf (`safereach region`, depth ≤ {}; `safereach check` verifies the map). **Certified: \
-         {:.1}% of the plane**; refuted {:.1}% (each such leaf names a colliding point, and none \
-         of its corners certifies); undecided {:.1}% (leaves along the boundary at the depth \
-         limit). The dots are the grid's cells, coloured by their own verdicts.\n",
+         leaf (`safereach region`, depth ≤ {}; `safereach check` verifies the map{}). **Certified: \
+         {:.1}% of the plane**; refuted {:.1}% (each such leaf names a colliding point, and no \
+         corner of it that was analysed certifies); undecided {:.1}% (leaves along the boundary \
+         at the depth limit). The dots are the grid's cells, coloured by their own verdicts.\n",
         cells.len(),
         w.lo,
         w.hi,
         rho.lo,
         rho.hi,
         map.depth,
+        if map.planar.is_some() {
+            "; a planar leaf's proof is one planar certificate at its weak corner, \
+             docs/reductions.md Lemma P7"
+        } else {
+            ""
+        },
         100.0 * map.coverage.certified,
         100.0 * map.coverage.refuted,
         100.0 * map.coverage.undecided,
