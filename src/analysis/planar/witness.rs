@@ -6,6 +6,9 @@
 //! - *through the anchor*: P → X at constant velocity until the anchor instant, then
 //!   towards Y and on, each leg slowed by a factor 1 − δ for a few small δ (the optimum
 //!   sits on the guard's threshold, where the guard fires: a hair slower it does not);
+//!   when the first leg recedes from the robot (it may: speed is a norm, and the robot
+//!   catches up), slowing brings X nearer the robot, so X is instead moved a few small
+//!   distances ε directly away from the robot's centre at the anchor instant;
 //! - *straight*: from P at full speed towards Y (along its direction, if fixed), all along.
 //!
 //! Every other obstacle stands at its start. A candidate the problem does not allow
@@ -17,6 +20,7 @@ use crate::core::planar::{
 };
 use crate::core::plane::direction::RationalDirection;
 use crate::core::plane::point::Point;
+use crate::proof::planar::trajectory::{BrakeTrajectory, DriveProfile};
 
 use super::lower_bound::WorstLeaf;
 
@@ -95,8 +99,21 @@ fn candidates(params: &PlanarParams, worst: &WorstLeaf) -> Vec<PlanarBehaviour> 
         .map(|j| Exact::from(j) * dt)
         .unwrap_or(Exact::ZERO);
     let mut out = Vec::new();
-    for delta in [0.0, 1e-9, 1e-7, 1e-5, 1e-3] {
-        let slow = Exact::ONE - exact_decimal(delta);
+    // Slowing the first leg moves X back towards P: away from the robot when the obstacle
+    // approaches it, towards the robot when it recedes. A receding X is pushed out instead.
+    let away = outward(params, &anchor, &x);
+    let recedes = away
+        .as_ref()
+        .is_some_and(|a| (&x - &start).dot(a) > Exact::ZERO);
+    let variants: Vec<(Exact, Point)> = match away {
+        Some(away) if recedes => [0.0, 1e-9, 1e-8, 1e-7, 1e-5, 1e-3]
+            .map(|e| (Exact::ONE, &x + &(&away * &exact_decimal(e))))
+            .into(),
+        _ => [0.0, 1e-9, 1e-7, 1e-5, 1e-3]
+            .map(|d| (Exact::ONE - exact_decimal(d), x.clone()))
+            .into(),
+    };
+    for (slow, x) in variants {
         let mut velocities = Vec::new();
         let steps_at = |t: &Exact| (t / dt).ceil().try_into().unwrap_or(0usize);
         let first = leg(obstacle, &start, &x, &anchor).map(|u| &u * &slow);
@@ -134,6 +151,18 @@ fn candidates(params: &PlanarParams, worst: &WorstLeaf) -> Vec<PlanarBehaviour> 
         ));
     }
     out
+}
+
+/// A unit vector (to about 10⁻⁹) from the robot's centre at the instant `t` (on its drive
+/// profile) towards `x`; None when `x` is that centre.
+fn outward(params: &PlanarParams, t: &Exact, x: &Point) -> Option<Point> {
+    let goal = params.path_ends.then(|| params.path.length());
+    let mut profile = DriveProfile::new(params.motion.clone(), goal);
+    let centre = BrakeTrajectory::new(&mut profile, None).centre_at(&mut profile, &params.path, t);
+    let delta = Exact::ONE / Exact::from(1_000_000_000);
+    RationalDirection::near(&(x - &centre), &delta)
+        .ok()
+        .map(|d| d.unit().clone())
 }
 
 /// The constant velocity from `a` to `b` in time `t` (zero when t = 0), within the bound
