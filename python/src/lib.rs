@@ -172,7 +172,10 @@ impl Problem {
         Ok(match &self.input {
             Input::Problem(p) => serde_json::to_string(p),
             Input::Scene(s) => serde_json::to_string(s),
-            Input::Planar(_) => serde_json::to_string(&stated(&self.text, &self.sets)?),
+            Input::Planar(_) => serde_json::to_string(
+                &PlanarProblem::stated_table(&self.text, &self.origin, &self.sets)
+                    .map_err(|e| InputError::new_err(e.to_string()))?,
+            ),
         }
         .expect("problems serialise"))
     }
@@ -188,46 +191,6 @@ impl Problem {
 }
 
 /// A Python value as a TOML value for an override.
-/// A planar problem's text as a table with the overrides `sets` applied (each read and
-/// validated already, so each names a table key or an obstacle's by index).
-fn stated(text: &str, sets: &[String]) -> PyResult<toml::Table> {
-    let bad = |e: String| InputError::new_err(e);
-    let mut doc: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| bad(e.to_string()))?;
-    for set in sets {
-        let (key, value) = set.split_once('=').ok_or_else(|| bad(set.clone()))?;
-        let value: toml::Table = format!("v = {value}")
-            .parse()
-            .map_err(|e: toml::de::Error| bad(e.to_string()))?;
-        let value = value["v"].clone();
-        let parts: Vec<&str> = key.trim().split('.').collect();
-        let (table, rest) = match parts.as_slice() {
-            ["obstacle", index, field] => {
-                let i: usize = index.parse().map_err(|_| bad(set.clone()))?;
-                let obstacle = doc
-                    .get_mut("obstacle")
-                    .and_then(|o| o.as_array_mut())
-                    .and_then(|o| o.get_mut(i))
-                    .and_then(|o| o.as_table_mut())
-                    .ok_or_else(|| bad(set.clone()))?;
-                (obstacle, *field)
-            }
-            [table, field] => {
-                let table = doc
-                    .entry(table.to_string())
-                    .or_insert_with(|| toml::Value::Table(toml::Table::new()))
-                    .as_table_mut()
-                    .ok_or_else(|| bad(set.clone()))?;
-                (table, *field)
-            }
-            _ => return Err(bad(set.clone())),
-        };
-        table.insert(rest.to_string(), value);
-    }
-    Ok(doc)
-}
-
 fn toml_value(value: &Bound<'_, PyAny>) -> PyResult<String> {
     if let Ok(b) = value.extract::<bool>() {
         return Ok(b.to_string());

@@ -359,3 +359,26 @@ fn init_planar_writes_a_template_that_reads_back() {
         .assert()
         .code(2);
 }
+
+/// What `stated_table` writes back reads as the problem its overrides state: every shipped
+/// planar problem, with a controller key and an obstacle's key overridden.
+#[test]
+fn the_stated_table_reads_back_as_the_problem_with_its_overrides() {
+    let dir = root().join("problems/planar");
+    let sets = [
+        "controller.reaction_radius=2.5".to_string(),
+        "obstacle.0.max_speed=0.75".to_string(),
+    ];
+    for entry in std::fs::read_dir(&dir).expect("shipped") {
+        let path = entry.expect("entry").path();
+        let text = std::fs::read_to_string(&path).expect("readable");
+        let origin = path.display().to_string();
+        let with = PlanarProblem::from_toml_str_with_overrides(&text, &origin, &sets)
+            .expect("the overrides are valid");
+        let table = PlanarProblem::stated_table(&text, &origin, &sets).expect("applies");
+        let again = PlanarProblem::from_toml_str(&toml::to_string(&table).expect("TOML"), &origin)
+            .expect("the stated table reads");
+        assert_eq!(again, with, "{origin}");
+        assert_eq!(with.obstacles[0].max_speed, 0.75);
+    }
+}

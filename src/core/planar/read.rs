@@ -57,6 +57,29 @@ impl PlanarProblem {
         Self::from_toml_str_with_overrides(&text, &origin, sets)
     }
 
+    /// The file's `text` as a TOML table with the overrides `sets` applied in place, as
+    /// the reader applies them (an obstacle's key by its index): what a problem with
+    /// overrides states, for writing it back (the Python package's `to_json`). Only the
+    /// overrides are checked here, not the problem; errors are the reader's.
+    pub fn stated_table(
+        text: &str,
+        origin: &str,
+        sets: &[String],
+    ) -> Result<toml::Table, ProblemError> {
+        let (overrides, _) = parse_overrides(sets, resolve)?;
+        let doc = DeTable::parse(text).map_err(|e| parse_error(origin, text, None, e))?;
+        let doc = doc.get_ref();
+        let mut root = doc.clone();
+        for o in overrides {
+            o.apply(&mut root)?;
+        }
+        toml::Table::deserialize(toml::de::Deserializer::from(toml::Spanned::new(0..0, root)))
+            .map_err(|mut e| {
+                e.set_input(Some(text));
+                parse_error(origin, text, Some(doc), e)
+            })
+    }
+
     /// [`PlanarProblem::from_toml_str`] with `--set` overrides, as
     /// [`PlanarProblem::load_with_overrides`].
     pub fn from_toml_str_with_overrides(
