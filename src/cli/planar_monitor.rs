@@ -8,10 +8,13 @@ use anyhow::{Context, Result};
 
 use safereach::monitor::bag::BagItem;
 use safereach::monitor::planar::PlanarMonitor;
+use safereach::monitor::planar_region_certificate;
 use safereach::monitor::trace::{Decoder, Ids};
 use safereach::monitor::{Detail, Outcome, RobotSample, Sample, Summary, Verdict};
 use safereach::proof::certificate_file::{CertificateFile, is_region_map};
+use safereach::proof::json_read::from_json;
 use safereach::proof::planar::certificate::PlanarCertificate;
+use safereach::proof::region_map::RegionMap;
 
 use super::exit::Exit;
 use super::input::{self, Unreadable};
@@ -25,7 +28,19 @@ pub fn planar_certificate(args: &MonitorArgs) -> Result<Option<PlanarCertificate
     let path = &args.certificate;
     let text = input::certificate_text(path, Unreadable::CannotRead)?;
     if is_region_map(&text) {
-        return Ok(None);
+        let map: RegionMap = from_json(&text)
+            .with_context(|| format!("{}: not a safereach region map", path.display()))?;
+        if map.planar.is_none() {
+            return Ok(None);
+        }
+        anyhow::ensure!(
+            args.at.is_empty(),
+            "--at: a planar map is monitored at its box's weak corner (the certificate its \
+             leaf carries), not at a named controller value"
+        );
+        let cert = planar_region_certificate(&map, args.leaf.as_deref())
+            .with_context(|| format!("{}: certificate unusable", path.display()))?;
+        return Ok(Some(cert));
     }
     match CertificateFile::from_json(&text) {
         Ok(CertificateFile::Planar(cert)) => {

@@ -180,7 +180,7 @@ use event::Violation;
 pub use event::{Action, Detail, Event, Outcome, Verdict};
 pub use field::Field;
 pub use lanes::Lanes;
-pub use region::RegionPoint;
+pub use region::{RegionPoint, planar_region_certificate};
 use scene::SceneAssumptions;
 pub use summary::{
     CertifiedObstacleSummary, CheckSummary, FailSafeSummary, Margin, PremiseSummary,

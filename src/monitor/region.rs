@@ -18,6 +18,9 @@
 //!   often at the upper end, the kinematic danger distance is shorter at the lower), so a
 //!   ranged V_a must be named: the value the robot's controller runs with.
 //!
+//! A planar map is monitored through its certificates instead
+//! ([`planar_region_certificate`]): the weak corner's (Lemma P7).
+//!
 //! Any ranged controller parameter may be named that way ([`RegionPoint::controller`]); the
 //! value must lie in the box. The point picked lies in a certified box, so the monitor is
 //! exactly the one of a point certificate there, and `check` has verified the map first.
@@ -26,9 +29,11 @@ use super::check::Bounds;
 use super::{Monitor, MonitorError, Rule};
 use crate::core::param_box::{Axis, ParamBox};
 use crate::core::parameter::Parameter;
+use crate::proof::planar::certificate::PlanarCertificate;
+use crate::proof::planar::region::weak_corner;
 use crate::proof::premise::premises;
 use crate::proof::region_check::check_map;
-use crate::proof::region_map::{LeafVerdict, RegionMap};
+use crate::proof::region_map::{LeafVerdict, RegionMap, box_at};
 
 /// Which box of a map, and which controller, the monitor checks against.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -171,5 +176,39 @@ impl Monitor {
             super::DEFAULT_MAX_OBSTACLES,
             0,
         ))
+    }
+}
+
+/// The planar certificate a monitor checks a planar map against: for the leaf named (or
+/// the whole box, certified leaf by leaf), the certificate of the certified leaf that holds
+/// the box's weak corner — ρ and the buffer at their lower ends (the least danger any
+/// certified controller of the box reacts to), the clearance and speed bounds at their
+/// upper ends (the premises that ask least of the world). By docs/reductions.md Lemma P7
+/// that corner's proof covers the box. A ranged V_a is refused: its lower end makes the
+/// wrong-assumption guard fire most often, which a controller running the upper end would
+/// be flagged for.
+pub fn planar_region_certificate(
+    map: &RegionMap,
+    leaf: Option<&str>,
+) -> Result<PlanarCertificate, MonitorError> {
+    check_map(map)?;
+    let b = chosen_box(map, leaf)?;
+    if b.axis(Parameter::AssumedObstacleSpeed).is_some() {
+        return refuse(
+            "the map ranges controller.assumed_obstacle_speed, which has no end that asks \
+             least of a planar controller; monitor against a planar certificate at the \
+             value the robot runs with"
+                .into(),
+        );
+    }
+    let weak = weak_corner(&b).map_err(MonitorError::Region)?;
+    let whole = map.whole();
+    let holder = map.leaves.iter().find(|l| {
+        l.verdict == LeafVerdict::Certified
+            && box_at(&whole, &l.path).and_then(|lb| weak_corner(&lb).ok()) == Some(weak.clone())
+    });
+    match holder.and_then(|l| l.planar_certificate.as_deref()) {
+        Some(cert) => Ok(cert.clone()),
+        None => refuse("no certified leaf holds the box's weak corner".into()),
     }
 }

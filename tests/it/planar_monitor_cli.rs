@@ -330,3 +330,72 @@ fn a_ros_bag_in_a_turned_and_shifted_odometry_frame_reads_as_its_trace() {
     assert_eq!(lines[0]["t"], csv_events[0]["t"]);
     assert_eq!(lines[0]["observed"], csv_events[0]["observed"]);
 }
+
+/// A planar region map is monitored at its box's weak corner (docs/reductions.md Lemma P7):
+/// the seed's witness trace (ρ = 1.4, W = 0.15, inside the box) holds; an obstacle faster
+/// than the box's W_hi = 0.2 is flagged against 0.2; `--at` and a ranged V_a are refused.
+#[test]
+fn a_planar_region_map_is_monitored_at_its_weak_corner() {
+    let dir = tmp();
+    let (_, trace) = seed_and_trace(dir.path(), "csv");
+    let map = |name: &str, extra: &[&str]| {
+        let path = dir.path().join(name);
+        safereach(dir.path())
+            .arg("region")
+            .arg(problem("seed-in-plane"))
+            .args([
+                "--range",
+                "controller.reaction_radius=1.3..1.6",
+                "--range",
+                "obstacle.0.max_speed=0.1..0.2",
+                "--depth",
+                "0",
+                "--out",
+            ])
+            .arg(&path)
+            .args(extra)
+            .assert()
+            .code(0);
+        path
+    };
+    let whole = map("map.json", &[]);
+    let (code, events, summary) = monitor_json(dir.path(), &whole, &trace);
+    assert_eq!((code, events.len()), (0, 0), "{events:?}");
+    assert_eq!(summary["verdict"], "held");
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for (k, line) in lines.iter_mut().enumerate().skip(101) {
+        let mut r: Vec<String> = line.split(',').map(str::to_string).collect();
+        let x: f64 = r[6].parse().unwrap();
+        r[6] = (x - 0.03 * (k - 100) as f64).to_string();
+        r[8].clear();
+        r[9].clear();
+        *line = r.join(",");
+    }
+    let fast = dir.path().join("fast.csv");
+    std::fs::write(&fast, lines.join("\n") + "\n").unwrap();
+    let (code, events, _) = monitor_json(dir.path(), &whole, &fast);
+    assert_eq!(code, 1);
+    assert_eq!(events[0]["premise"], "obstacle_speed");
+    assert_eq!(events[0]["bound"].as_f64().unwrap(), 0.2);
+    let refused = |cert: &std::path::Path, extra: &[&str], needle: &str| {
+        let out = safereach(dir.path())
+            .arg("monitor")
+            .arg("--certificate")
+            .arg(cert)
+            .arg(&trace)
+            .args(extra)
+            .assert()
+            .code(2)
+            .get_output()
+            .clone();
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(err.contains(needle), "{err}");
+    };
+    refused(&whole, &["--at", "controller.reaction_radius=1.4"], "--at");
+    let va = map(
+        "va.json",
+        &["--range", "controller.assumed_obstacle_speed=0.2..0.25"],
+    );
+    refused(&va, &[], "controller.assumed_obstacle_speed");
+}
