@@ -130,10 +130,17 @@ impl Bracket {
 /// A float estimate of D's least value on [from, to] (its ends and middle): only an order
 /// to bracket the pieces in, never a bound.
 fn estimate(d: &Polynomial, from: &Exact, to: &Exact) -> f64 {
-    let mid = (from + to) / Exact::from(2);
-    [from, &mid, to]
+    // In floats throughout: exact evaluation cost more than the exact bracketing it orders.
+    let c: Vec<f64> = d
+        .coefficients()
+        .iter()
+        .map(|x| x.to_f64().value())
+        .collect();
+    let eval = |t: f64| c.iter().rev().fold(0.0, |acc, a| acc * t + a);
+    let (a, b) = (from.to_f64().value(), to.to_f64().value());
+    [a, (a + b) / 2.0, b]
         .into_iter()
-        .map(|t| d.eval(t).to_f64().value())
+        .map(eval)
         .fold(f64::INFINITY, f64::min)
 }
 
