@@ -122,7 +122,7 @@ class RegionMap:
 def region(
     problem: Problem,
     ranges: dict[str, tuple[float, float]],
-    depth: int = 14,
+    depth: Optional[int] = None,  # 14; 8 for a planar problem
     min_width: float = 0.0,
 ) -> RegionMap: ...
 def certify(problem: Problem) -> Certificate: ...

@@ -13,7 +13,8 @@ use safereach::analysis::planar::{
     BoundaryError, KnobError, certify_text, max_speed_search, safe_radius_search,
 };
 use safereach::analysis::region_search::{
-    RegionOptions, map_planar_region, map_region, map_scene_region,
+    DEFAULT_DEPTH, PLANAR_DEFAULT_DEPTH, RegionOptions, map_planar_region, map_region,
+    map_scene_region,
 };
 use safereach::analysis::scene_answer::SceneAnswer;
 use safereach::analysis::{self, radius};
@@ -504,18 +505,23 @@ impl RegionMap {
     }
 }
 
-/// Maps `problem` (a problem or a scene) over the box `ranges` ({key: (lo, hi)}, e.g.
-/// {"environment.obstacle_speed": (0.1, 0.3)}, or in a scene {"obstacle.0.max_speed":
-/// (0.1, 0.3)}): boxes that do not certify are split down to `depth`. The GIL is released.
+/// Maps `problem` (a problem, a scene or a planar problem) over the box `ranges` ({key:
+/// (lo, hi)}, e.g. {"environment.obstacle_speed": (0.1, 0.3)}, or in a scene or a planar
+/// problem {"obstacle.0.max_speed": (0.1, 0.3)}): boxes that do not certify are split down
+/// to `depth` (default 14; 8 for a planar problem). The GIL is released.
 #[pyfunction]
-#[pyo3(signature = (problem, ranges, depth = 14, min_width = 0.0))]
+#[pyo3(signature = (problem, ranges, depth = None, min_width = 0.0))]
 fn region(
     py: Python<'_>,
     problem: &Problem,
     ranges: &Bound<'_, PyDict>,
-    depth: u32,
+    depth: Option<u32>,
     min_width: f64,
 ) -> PyResult<RegionMap> {
+    let depth = depth.unwrap_or(match problem.input {
+        Input::Planar(_) => PLANAR_DEFAULT_DEPTH,
+        _ => DEFAULT_DEPTH,
+    });
     let axes = ranges
         .iter()
         .map(|(key, span)| {

@@ -10,7 +10,8 @@ use safereach::core::budget::Work;
 
 use safereach::analysis::Verdict;
 use safereach::analysis::region_search::{
-    DEFAULT_DEPTH, RegionOptions, map_planar_region, map_region, map_scene_region,
+    DEFAULT_DEPTH, PLANAR_DEFAULT_DEPTH, RegionOptions, map_planar_region, map_region,
+    map_scene_region,
 };
 use safereach::analysis::report::region_plot;
 use safereach::core::param_box::{Axis, ParamBox};
@@ -41,9 +42,10 @@ pub struct RegionArgs {
     /// Override a key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Most halvings on the way from the whole box to a leaf.
-    #[arg(long, default_value_t = DEFAULT_DEPTH)]
-    depth: u32,
+    /// Most halvings on the way from the whole box to a leaf (default 14; 8 for a planar
+    /// problem, whose boxes each cost planar certifications).
+    #[arg(long)]
+    depth: Option<u32>,
     /// Budget: the most boxes decided (default 1,000,000); boxes past it are left undecided.
     #[arg(long, value_name = "N")]
     max_boxes: Option<u64>,
@@ -84,7 +86,10 @@ pub fn run(args: RegionArgs, out: &mut Output) -> Result<Exit> {
         );
     }
     let options = RegionOptions {
-        depth: args.depth,
+        depth: args.depth.unwrap_or(match input {
+            Input::Planar(_) => PLANAR_DEFAULT_DEPTH,
+            _ => DEFAULT_DEPTH,
+        }),
         min_width: args.min_width,
         max_boxes: args
             .max_boxes
