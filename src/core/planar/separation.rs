@@ -22,7 +22,7 @@
 
 use dashu_int::ops::Abs;
 
-use crate::core::num::Exact;
+use crate::core::num::{Exact, f64_at_least};
 use crate::core::plane::direction::sqrt_bounds;
 use crate::core::plane::point::Point;
 use crate::core::plane::rational_path::RationalPath;
@@ -79,10 +79,22 @@ pub struct Track {
 
 /// An exact bracket on D's minimum: every instant's D is ≥ `lower`, and D at the instant
 /// `upper.1` is `upper.0` (None: no moving instant yet).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 struct Bracket {
     lower: Option<Exact>,
     upper: Option<(Exact, Exact)>,
+    /// The upper value rounded up to a float (+∞ before there is one).
+    upper_float: f64,
+}
+
+impl Default for Bracket {
+    fn default() -> Self {
+        Bracket {
+            lower: None,
+            upper: None,
+            upper_float: f64::INFINITY,
+        }
+    }
 }
 
 impl Bracket {
@@ -95,6 +107,7 @@ impl Bracket {
     fn upper_to(&mut self, value: &Exact, at: Exact) {
         if self.upper.as_ref().is_none_or(|(u, _)| value < u) {
             self.upper = Some((value.clone(), at));
+            self.upper_float = f64_at_least(value);
         }
     }
 
@@ -102,11 +115,17 @@ impl Bracket {
     /// the work when a cheap bound shows the piece cannot hold the minimum (its Taylor
     /// bound is at least the best attained value, so it changes neither end of the final
     /// bracket: the lower end is at most that attained value).
-    fn add(&mut self, d: &Polynomial, from: &Exact, to: &Exact, t0: &Exact) {
-        if let Some((best, _)) = &self.upper
-            && taylor_lower(d, from, to) >= *best
-        {
-            return;
+    fn add(&mut self, d: &Polynomial, floats: &[f64], from: &Exact, to: &Exact, t0: &Exact) {
+        if let Some((best, _)) = &self.upper {
+            // The float bound first: most pieces are far above the best, and it is proved
+            // to sit below the exact Taylor bound ([`float_taylor_lower`]).
+            let (a, b) = (from.to_f64().value(), to.to_f64().value());
+            if float_taylor_lower(floats, a, b) >= self.upper_float {
+                return;
+            }
+            if taylor_lower(d, from, to) >= *best {
+                return;
+            }
         }
         let m = d.minimum_on(from, to, &width());
         if m.lower <= Exact::ZERO && d.min_at_most(&Exact::ZERO, from, to) {
@@ -129,13 +148,8 @@ impl Bracket {
 
 /// A float estimate of D's least value on [from, to] (its ends and middle): only an order
 /// to bracket the pieces in, never a bound.
-fn estimate(d: &Polynomial, from: &Exact, to: &Exact) -> f64 {
+fn estimate(c: &[f64], from: &Exact, to: &Exact) -> f64 {
     // In floats throughout: exact evaluation cost more than the exact bracketing it orders.
-    let c: Vec<f64> = d
-        .coefficients()
-        .iter()
-        .map(|x| x.to_f64().value())
-        .collect();
     let eval = |t: f64| c.iter().rev().fold(0.0, |acc, a| acc * t + a);
     let (a, b) = (from.to_f64().value(), to.to_f64().value());
     [a, (a + b) / 2.0, b]
@@ -228,22 +242,29 @@ impl Track {
         if let Some(b) = &self.bounded {
             bracket.lower_to(b);
         }
-        let mut order: Vec<(f64, usize)> = self
+        let mut order: Vec<(f64, usize, Vec<f64>)> = self
             .stored
             .iter()
             .enumerate()
             .filter_map(|(k, s)| match s {
-                Stored::Exact { from, to, d, .. } => Some((estimate(d, from, to), k)),
+                Stored::Exact { from, to, d, .. } => {
+                    let floats = d
+                        .coefficients()
+                        .iter()
+                        .map(|x| x.to_f64().value())
+                        .collect::<Vec<f64>>();
+                    Some((estimate(&floats, from, to), k, floats))
+                }
                 Stored::Bounded { .. } => None,
             })
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for (_, k) in order {
+        for (_, k, floats) in order {
             if let Stored::Exact {
                 t0, from, to, d, ..
             } = &self.stored[k]
             {
-                bracket.add(d, from, to, t0);
+                bracket.add(d, &floats, from, to, t0);
             }
         }
         bracket
@@ -328,6 +349,43 @@ fn squared_distance(
 }
 
 /// A lower bound on p over [from, to]: its Taylor form about the centre (module docs).
+/// A float at most [`taylor_lower`] of the polynomial with coefficients `c` (each the
+/// nearest float to an exact one) on [a, b] (the floats nearest the exact ends), or −∞.
+///
+/// *Why it is below.* The Taylor coefficients about m = (a + b)/2 with radius h are
+/// d_k = Σ_{j≥k} c_j·C(j, k)·m^{j−k}·h^k; in floats each term is a product of at most
+/// 2·deg + 2 roundings of relative error u = 2⁻⁵³ (the coefficients', the ends' and m's
+/// and h's own included, |m| + |h| ≤ max(|a|, |b|)·(1 + u)), and each sum adds deg more. So every
+/// computed quantity is within 30·u·M of its exact value, M := Σ_j |c_j|·(|m| + |h|)^j,
+/// for degree ≤ 4 and with M itself off by far less than its size, and d₀ − Σ|d_k| in
+/// floats is within 60·u·M < 10⁻¹⁴·M of the exact Taylor bound. Taking 10⁻¹⁰·M off is
+/// below it with a margin of 10⁴; a degree above 4, or a value out of the float range,
+/// gives −∞ (no claim).
+fn float_taylor_lower(c: &[f64], a: f64, b: f64) -> f64 {
+    if c.len() > 5 || !(a.is_finite() && b.is_finite()) {
+        return f64::NEG_INFINITY;
+    }
+    let m = (a + b) / 2.0;
+    let h = (b - a) / 2.0;
+    let reach = m.abs() + h.abs();
+    let mut d = [0.0f64; 5];
+    let mut magnitude = 0.0;
+    for (j, &cj) in c.iter().enumerate() {
+        magnitude += cj.abs() * reach.powi(j as i32);
+        let mut binom = 1.0;
+        for (k, dk) in d.iter_mut().enumerate().take(j + 1) {
+            *dk += cj * binom * m.powi((j - k) as i32) * h.powi(k as i32);
+            binom = binom * (j - k) as f64 / (k + 1) as f64;
+        }
+    }
+    let lower = d[0] - d[1..].iter().map(|x| x.abs()).sum::<f64>() - 1e-10 * magnitude;
+    if lower.is_finite() && magnitude.is_finite() {
+        lower
+    } else {
+        f64::NEG_INFINITY
+    }
+}
+
 fn taylor_lower(p: &Polynomial, from: &Exact, to: &Exact) -> Exact {
     let centre = (from + to) / Exact::from(2);
     let radius = (to - from) / Exact::from(2);
@@ -335,4 +393,31 @@ fn taylor_lower(p: &Polynomial, from: &Exact, to: &Exact) -> Exact {
     let mut coefficients = around.coefficients().iter();
     let d0 = coefficients.next().cloned().unwrap_or(Exact::ZERO);
     coefficients.fold(d0, |acc, d| acc - d.clone().abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::num::{exact_decimal, exact_float};
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The float prefilter never claims more than the exact Taylor bound it stands in
+        /// for, on polynomials of a squared distance's size and degree.
+        #[test]
+        fn the_float_taylor_bound_is_below_the_exact_one(
+            c in proptest::collection::vec(-200.0f64..200.0, 1..6),
+            t0 in 0.0f64..50.0,
+            width in 0.0f64..0.2,
+        ) {
+            let exact: Vec<Exact> = c.iter().map(|&x| exact_decimal(x)).collect();
+            let p = Polynomial::new(exact.clone());
+            let (from, to) = (exact_decimal(t0), exact_decimal(t0 + width));
+            let floats: Vec<f64> = exact.iter().map(|x| x.to_f64().value()).collect();
+            let f = float_taylor_lower(&floats, from.to_f64().value(), to.to_f64().value());
+            if f.is_finite() {
+                prop_assert!(exact_float(f) <= taylor_lower(&p, &from, &to));
+            }
+        }
+    }
 }
