@@ -348,7 +348,6 @@ fn squared_distance(
     &(&dx * &dx) + &(&dy * &dy)
 }
 
-/// A lower bound on p over [from, to]: its Taylor form about the centre (module docs).
 /// A float at most [`taylor_lower`] of the polynomial with coefficients `c` (each the
 /// nearest float to an exact one) on [a, b] (the floats nearest the exact ends), or −∞.
 ///
@@ -386,6 +385,7 @@ fn float_taylor_lower(c: &[f64], a: f64, b: f64) -> f64 {
     }
 }
 
+/// A lower bound on p over [from, to]: its Taylor form about the centre (module docs).
 fn taylor_lower(p: &Polynomial, from: &Exact, to: &Exact) -> Exact {
     let centre = (from + to) / Exact::from(2);
     let radius = (to - from) / Exact::from(2);
